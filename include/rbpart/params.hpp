@@ -1,0 +1,40 @@
+#pragma once
+// Every numerical parameter of the step, with its named default, in one place (DESIGN.md §2-3).
+// They are reported in the outputs (stats header, state file) so a run can be reproduced.
+#include <string>
+
+namespace rbpart {
+
+enum class SolverKind { Direct, Pgs };
+
+struct StepParams {
+  // Stabilisation (DESIGN.md §2): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.
+  double erp = 0.2;
+  double slop = 0.0001;          // m of penetration tolerated without correction
+  // Regularisation floor: sigma_j >= sigma_floor * (J M^-1 J^T)_jj keeps A SPD with redundant rows.
+  double sigma_floor = 1e-6;
+  // Friction tangent t1 follows the sliding velocity when it exceeds this (m/s).
+  double sliding_velocity_eps = 1e-4;
+  // Joint post-stabilisation: Gauss-Newton projections of rigid joints' position errors after each
+  // step, until every error is below joint_tolerance (m or rad). 0 iterations: Baumgarte only.
+  int joint_projection_iterations = 8;
+  double joint_tolerance = 1e-6;
+  // Contacts are reported up to this separation (m), and handled speculatively (b = d/h).
+  double contact_margin = 0.01;
+};
+
+struct SolverParams {
+  SolverKind kind = SolverKind::Direct;
+  // Direct (block principal pivoting, DESIGN.md §3).
+  int dense_max_rows = 300;        // islands up to this many rows use dense Cholesky, larger CHOLMOD
+  int max_pivot_iterations = 500;  // per BLCP solve
+  int murty_after = 3;             // iterations without progress before Murty's single swaps
+  int friction_passes = 6;         // outer fixed-point passes for the friction bounds
+  double friction_tolerance = 1e-6;  // relative change of normal impulses that ends the passes
+  // PGS (the iterative baseline).
+  int pgs_iterations = 100;
+  double pgs_tolerance = 1e-8;     // stop when the largest impulse change (scaled) falls below
+  int threads = 0;                 // 0: all hardware threads
+};
+
+}  // namespace rbpart

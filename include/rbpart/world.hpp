@@ -1,0 +1,65 @@
+#pragma once
+// A World advances a scene in time: collide -> assemble -> graph -> solve -> integrate
+// (DESIGN.md §1), each stage timed into the step's profile.
+#include <rbpart/params.hpp>
+#include <rbpart/scene.hpp>
+
+#include <cstdint>
+#include <memory>
+
+namespace rbpart {
+
+struct Bodies;
+
+// Wall time of each stage of one step, named after the stage (ms).
+struct StepProfile {
+  double collide_ms = 0, assemble_ms = 0, graph_ms = 0, partition_ms = 0, refine_ms = 0, solve_ms = 0,
+         integrate_ms = 0, total_ms = 0;
+};
+
+// Per-step statistics (DESIGN.md §9: one CSV line per step).
+struct StepStats {
+  int step = 0;
+  int bodies = 0;            // dynamic bodies
+  int contacts = 0;
+  int rows = 0;
+  int islands = 0;
+  int parts = 0;             // sub-systems (= islands for the monolithic solvers)
+  int interface_rows = 0;
+  int interface_bodies = 0;
+  int edge_cut = 0;
+  int solver_iterations = 0;
+  int friction_passes = 0;
+  int factorizations = 0;
+  int fallbacks = 0;         // islands the solver could not finish within its caps
+  double residual = 0;       // scaled natural-map residual of the step's BLCP
+  double max_penetration = 0;  // m, deepest contact after collision
+  double kinetic_energy = 0;   // J, after the step
+  StepProfile profile;
+};
+
+class World {
+ public:
+  World(SceneDef scene, StepParams step_params = {}, SolverParams solver_params = {});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // Advances one time step of the scene's dt.
+  const StepStats& step();
+
+  double time() const;
+  int step_count() const;
+  const SceneDef& scene() const;
+  const StepParams& step_params() const;
+  const SolverParams& solver_params() const;
+  const Bodies& bodies() const;
+  // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
+  std::uint64_t state_hash() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rbpart

@@ -1,0 +1,81 @@
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.hpp"
+#include "scenes/scenes.hpp"
+
+namespace rbpart {
+
+const std::vector<SceneInfo>& builtin_scenes() {
+  static const std::vector<SceneInfo> scenes = {
+      // The paper's scenes (DESIGN.md §8).
+      chain_drop_scene(), log_tower_scene(), rock_pile_scene(), large_rock_pile_scene(),
+      // Benchmark and analytic scenes.
+      box_pile_scene(), box_stack_scene(), slope_scene(), pendulum_scene(), hanging_chain_scene()};
+  return scenes;
+}
+
+SceneDef make_builtin_scene(const std::string& name,
+                            const std::vector<std::pair<std::string, std::string>>& overrides) {
+  for (const SceneInfo& info : builtin_scenes()) {
+    if (info.name != name) continue;
+    SceneParameters values;
+    for (const SceneParameter& p : info.parameters) values[p.name] = p.value;
+    for (const auto& [key, text] : overrides) {
+      if (!values.count(key)) throw InputError("scene " + name + ": unknown parameter '" + key + "'");
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw InputError("scene " + name + ": parameter '" + key + "' needs a finite number (got '" + text + "')");
+      values[key] = v;
+    }
+    return info.make(values);
+  }
+  throw InputError("unknown scene '" + name + "' (rbpart scenes lists the built-ins)");
+}
+
+std::uint64_t SceneRandom::next() {
+  // splitmix64: tiny, fast and good enough for scene jitter.
+  std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+double SceneRandom::uniform(double lo, double hi) {
+  return lo + (hi - lo) * (static_cast<double>(next() >> 11) * 0x1.0p-53);
+}
+
+Vec3 SceneRandom::unit_vector() {
+  const double z = uniform(-1, 1), phi = uniform(0, 2 * M_PI), s = std::sqrt(1 - z * z);
+  return {s * std::cos(phi), s * std::sin(phi), z};
+}
+
+Quat SceneRandom::rotation() {
+  Quat q(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+  while (q.squaredNorm() < 1e-6 || q.squaredNorm() > 1) q = Quat(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+  return q.normalized();
+}
+
+BodyDef static_box(const std::string& name, const Vec3& center, const Vec3& half_extents, const Quat& orientation) {
+  BodyDef b;
+  b.name = name;
+  b.is_static = true;
+  b.shape.type = ShapeType::Box;
+  b.shape.half_extents = half_extents;
+  b.position = center;
+  b.orientation = orientation;
+  b.density = 1;  // unused for static bodies, keeps the definition valid
+  return b;
+}
+
+void add_bin(SceneDef& scene, double hx, double hy, double height) {
+  const double t = 0.1;  // wall thickness
+  scene.bodies.push_back(static_box("floor", {0, 0, -t}, {hx + 2 * t, hy + 2 * t, t}));
+  scene.bodies.push_back(static_box("wall_x-", {-hx - t, 0, height / 2}, {t, hy + 2 * t, height / 2}));
+  scene.bodies.push_back(static_box("wall_x+", {hx + t, 0, height / 2}, {t, hy + 2 * t, height / 2}));
+  scene.bodies.push_back(static_box("wall_y-", {0, -hy - t, height / 2}, {hx, t, height / 2}));
+  scene.bodies.push_back(static_box("wall_y+", {0, hy + t, height / 2}, {hx, t, height / 2}));
+}
+
+}  // namespace rbpart

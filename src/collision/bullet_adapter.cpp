@@ -1,0 +1,1187 @@
+// Collision stage (DESIGN.md §1 "collide") on Bullet's collision module in double precision. This
+// is the only file that includes Bullet.
+//
+// The setup, and why:
+// - Broad phase: btDbvtBroadphase inside a btCollisionWorld. AABBs are set here, grown by the
+//   contact margin, so every pair closer than the margin overlaps. Static-static pairs are excluded
+//   by the filter masks and joined pairs by an overlap filter: filtered pairs never become pairs.
+// - Narrow phase: one collision algorithm of ours, registered with the dispatcher for every pair
+//   of shape types. Bullet's convex algorithms report a separated pair with one point per call at
+//   most (box-box none at all), and its collision margins and contact perturbation move the points
+//   (a hull grows by 0.04 m by default), so they cannot give multi-point manifolds with true
+//   distances up to the margin. Ours, per pair:
+//   1. btGjkEpaSolver2 gives a normal and a closest pair: GJK on the shapes' cores, EPA on the
+//      shapes when the cores overlap. Spheres and capsules are a point or segment core plus their
+//      radius, which is exact. Boxes, cylinders and hulls are a core shrunk by a rounding radius of
+//      1e-6 of their size, plus that radius: shapes that touch then have cores apart, so GJK's
+//      normal is well conditioned (margin-free polytopes in contact give GJK a zero vector).
+//   2. The closest pair is moved onto the exact shapes' support sets along the normal, so its
+//      distance is the gap between their support planes, free of the rounding.
+//   3. If a flat face (box or hull face, cylinder cap) is aligned with the normal, it is the
+//      reference face, and the other shape's supporting feature (face, cap polygon, side line,
+//      capsule segment) is clipped against the face's side planes (Sutherland-Hodgman). Every
+//      clipped point within the margin is a contact at its exact distance from the face's plane.
+//      Otherwise (edge on edge, round on round), or when it is deeper than all of those, the
+//      closest pair is a contact.
+//   4. At most 4 points are kept: the deepest, then those spanning the largest area.
+// - Persistence: a pair's points live in its btPersistentManifold. A new point within the margin of
+//   one of the pair's previous points (in either body's frame) takes over that point's id, kept in
+//   btManifoldPoint::m_userPersistentData; other points get fresh ids from the Collider's counter,
+//   assigned in (body_a, body_b) order after sorting, so runs are deterministic.
+#include "collision/collide.hpp"
+
+#include <btBulletCollisionCommon.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
+#include <LinearMath/btConvexHullComputer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace rbpart {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays are passed to Bullet as packed doubles");
+
+namespace {
+
+btVector3 to_bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+Vec3 to_eigen(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+
+}  // namespace
+
+HullFaces convex_hull_faces(const std::vector<Vec3>& points) {
+  HullFaces out;
+  const int n = static_cast<int>(points.size());
+  if (n == 0) return out;
+  btConvexHullComputer hull;
+  hull.compute(points.front().data(), static_cast<int>(sizeof(Vec3)), n, 0, 0);
+
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // Planar to round-off: far below Bullet's rounding grid (1e-4 of the extent).
+  const double tolerance = 1e-10 * (hi - lo).maxCoeff();
+
+  // Bullet's faces, fanned into triangles over the input indices, with unit normals.
+  std::vector<std::array<int, 3>> tris;
+  for (int f = 0; f < hull.faces.size(); ++f) {
+    const btConvexHullComputer::Edge* first = &hull.edges[hull.faces[f]];
+    const int v0 = hull.original_vertex_index[first->getSourceVertex()];
+    for (const btConvexHullComputer::Edge* e = first->getNextEdgeOfFace(); e->getTargetVertex() != first->getSourceVertex();
+         e = e->getNextEdgeOfFace())
+      tris.push_back({v0, hull.original_vertex_index[e->getSourceVertex()], hull.original_vertex_index[e->getTargetVertex()]});
+  }
+  const int t = static_cast<int>(tris.size());
+  std::vector<Vec3> normal(t);
+  for (int i = 0; i < t; ++i) {
+    const Vec3& a = points[tris[i][0]];
+    const Vec3 c = (points[tris[i][1]] - a).cross(points[tris[i][2]] - a);
+    normal[i] = c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
+  }
+
+  // Adjacent triangles coplanar in the input coordinates form one face (union-find): Bullet
+  // decides on rounded points, which splits the planar faces of a rotated box, for one.
+  struct HalfEdge {
+    int from, to, tri;
+    bool operator<(const HalfEdge& o) const { return from != o.from ? from < o.from : to < o.to; }
+  };
+  std::vector<HalfEdge> edges;
+  for (int i = 0; i < t; ++i)
+    for (int k = 0; k < 3; ++k) edges.push_back({tris[i][k], tris[i][(k + 1) % 3], i});
+  std::sort(edges.begin(), edges.end());
+  const int m = static_cast<int>(edges.size());
+  std::vector<int> twin(m, -1);  // the triangle across each half-edge
+  for (int i = 0; i < m; ++i) {
+    const auto it = std::lower_bound(edges.begin(), edges.end(), HalfEdge{edges[i].to, edges[i].from, -1});
+    if (it != edges.end() && it->from == edges[i].to && it->to == edges[i].from) twin[i] = it->tri;
+  }
+  auto on_plane = [&](int plane, int tri) {
+    for (int v : tris[tri])
+      if (std::abs(normal[plane].dot(points[v] - points[tris[plane][0]])) > tolerance) return false;
+    return true;
+  };
+  std::vector<int> group(t);
+  for (int i = 0; i < t; ++i) group[i] = i;
+  const std::function<int(int)> root = [&](int i) { return group[i] == i ? i : group[i] = root(group[i]); };
+  for (int i = 0; i < m; ++i) {
+    const int a = edges[i].tri, b = twin[i];
+    if (b < 0 || root(a) == root(b)) continue;
+    if (normal[a].dot(normal[b]) >= 0 && on_plane(a, b) && on_plane(b, a)) group[root(a)] = root(b);
+  }
+
+  // Each face's boundary: the half-edges whose twin lies in another face, walked in the triangles'
+  // (counter-clockwise) direction; vertices in line with their neighbours are dropped. A boundary
+  // that is not one simple loop (impossible on a convex hull) leaves the face as its triangles.
+  std::vector<int> boundary;  // half-edges on face boundaries, grouped by face
+  for (int i = 0; i < m; ++i)
+    if (twin[i] < 0 || root(twin[i]) != root(edges[i].tri)) boundary.push_back(i);
+  std::stable_sort(boundary.begin(), boundary.end(),
+                   [&](int x, int y) { return root(edges[x].tri) < root(edges[y].tri); });
+  std::vector<int> next(n, -1), loop, face;
+  auto emit = [&](const std::vector<int>& vertices) {
+    out.indices.insert(out.indices.end(), vertices.begin(), vertices.end());
+    out.offsets.push_back(static_cast<int>(out.indices.size()));
+  };
+  out.offsets.push_back(0);
+  for (std::size_t begin = 0, end; begin < boundary.size(); begin = end) {
+    const int g = root(edges[boundary[begin]].tri);
+    for (end = begin; end < boundary.size() && root(edges[boundary[end]].tri) == g; ++end)
+      next[edges[boundary[end]].from] = edges[boundary[end]].to;
+    const int size = static_cast<int>(end - begin), start = edges[boundary[begin]].from;
+    loop.clear();
+    int v = start;
+    do {
+      loop.push_back(v);
+      v = next[v];
+    } while (v >= 0 && v != start && static_cast<int>(loop.size()) <= size);
+    for (std::size_t j = begin; j < end; ++j) next[edges[boundary[j]].from] = -1;
+    if (v != start || static_cast<int>(loop.size()) != size) {
+      for (int i = 0; i < t; ++i)
+        if (root(i) == g) emit({tris[i].begin(), tris[i].end()});
+      continue;
+    }
+    face.clear();
+    const int k = static_cast<int>(loop.size());
+    for (int j = 0; j < k; ++j) {
+      const Vec3& prev = points[loop[(j + k - 1) % k]];
+      const Vec3& here = points[loop[j]];
+      const Vec3& after = points[loop[(j + 1) % k]];
+      if ((here - prev).cross(after - here).norm() > tolerance * (after - prev).norm()) face.push_back(loop[j]);
+    }
+    if (face.size() >= 3) emit(face);  // else a sliver of zero area
+  }
+  if (out.offsets.size() == 1) out.offsets.clear();
+  return out;
+}
+
+namespace {
+
+// Rounding radius of polytopes and cylinders (see the file comment): a twentieth of the contact
+// margin, so that resting contacts (which sink by about the solver's slop, well under a tenth of
+// the margin) keep the cores apart and never need EPA; at most a twentieth of the shape's
+// thickness; at least 1e-6 of its size, so that touching cores stay apart with no margin at all.
+// It does not enter distances (support planes) or the positions of polytope contacts (support
+// sets); it can shift a cylinder rim's contact along the surface by about its size.
+double rounding_radius(double margin, double thickness, double size) {
+  return std::max(1e-6 * size, std::min(0.05 * margin, 0.05 * thickness));
+}
+// Support points this close (relative to the size) along a normal tie.
+constexpr double kFlat = 1e-6;
+// A flat face is the reference of a manifold when its normal is within ~0.8 degrees of the contact
+// normal; GJK/EPA return a face normal to round-off for face contacts, an edge cross product or
+// a direction between round parts otherwise.
+constexpr double kFaceAlignment = 0.9999;
+// Corners of the polygon that stands for a cylinder cap.
+constexpr int kCapCorners = 8;
+constexpr int kMaxPoints = 4;
+
+// A convex polyhedron in its shape frame: faces in CSR form, counter-clockwise seen from outside,
+// with planes normal . x = offset. Bullet builds the hull on rounded points (see convex_hull_faces);
+// in about 2% of random rocks a face, often a sliver, then has a given point up to 1e-4 of the size
+// above its plane, and a sliver's normal can be anything. Such faces still bound the volume but
+// are never a contact's reference or incident face.
+struct Polyhedron {
+  std::vector<Vec3> vertices;
+  std::vector<int> face_offsets, face_vertices;
+  std::vector<Vec3> normals;
+  std::vector<double> offsets;
+  std::vector<int> supporting;  // faces with every point on or below their plane
+
+  // The supporting face whose outward normal is most aligned with `dir` (shape frame).
+  int support_face(const Vec3& dir) const {
+    int best = supporting[0];
+    double best_dot = -INFINITY;
+    for (int f : supporting) {
+      const double d = normals[f].dot(dir);
+      if (d > best_dot) best_dot = d, best = f;
+    }
+    return best;
+  }
+};
+
+Polyhedron make_polyhedron(const std::vector<Vec3>& points) {
+  const HullFaces hull = convex_hull_faces(points);
+  if (hull.size() < 4) throw InputError("convex vertices are coplanar or collinear (zero volume)");
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& x : points) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double tolerance = 1e-9 * (hi - lo).maxCoeff();
+  Polyhedron p;
+  std::vector<int> remap(points.size(), -1);
+  p.face_offsets = hull.offsets;
+  for (int idx : hull.indices) {
+    if (remap[idx] < 0) {
+      remap[idx] = static_cast<int>(p.vertices.size());
+      p.vertices.push_back(points[idx]);
+    }
+    p.face_vertices.push_back(remap[idx]);
+  }
+  for (int f = 0; f < hull.size(); ++f) {
+    const int begin = p.face_offsets[f], end = p.face_offsets[f + 1];
+    const Vec3& v0 = p.vertices[p.face_vertices[begin]];
+    Vec3 n = Vec3::Zero();
+    for (int k = begin + 1; k + 1 < end; ++k)
+      n += (p.vertices[p.face_vertices[k]] - v0).cross(p.vertices[p.face_vertices[k + 1]] - v0);
+    n.normalize();
+    double offset = -INFINITY;
+    for (int k = begin; k < end; ++k) offset = std::max(offset, n.dot(p.vertices[p.face_vertices[k]]));
+    p.normals.push_back(n);
+    p.offsets.push_back(offset);
+    double above = 0;
+    for (const Vec3& x : points) above = std::max(above, n.dot(x) - offset);
+    if (above <= tolerance) p.supporting.push_back(f);
+  }
+  if (p.supporting.empty()) throw InputError("convex vertices are coplanar or collinear (zero volume)");
+  return p;
+}
+
+// What the narrow phase knows of a body's shape besides its Bullet shape.
+struct Geometry {
+  ShapeType type = ShapeType::Sphere;
+  double radius = 0, half_length = 0;  // sphere, capsule, cylinder
+  double core_radius = 0;              // sphere, capsule: Bullet core (point, segment) to surface
+  double rounding = 0;                 // box, cylinder, convex: radius of the rounded Bullet shape
+  const btConvexShape* exact = nullptr;    // the shape itself (margin 0, or a core plus radius)
+  const btConvexShape* rounded = nullptr;  // box, cylinder, convex: shrunk core plus `rounding`
+  double size = 0;                     // characteristic length (m)
+  int polyhedron = -1;                 // box, convex
+};
+
+// A contact point of a pair (A, B) = (manifold body 0, body 1), all in world coordinates.
+struct PairPoint {
+  Vec3 on_a, on_b;
+  Vec3 normal;  // from B into A
+  double distance;
+};
+
+// One shape's feature facing the other body: a polygon (counter-clockwise seen from outside, with
+// outward normal), a segment, or a point; `radius` is the distance from it to the surface.
+enum class FeatureKind { Point, Segment, Polygon };
+
+// The points of an exact shape farthest along a direction: one point (a vertex, a cap or a rim
+// point, a sphere), a segment (an edge, a side line) or a flat patch (a face, a cylinder cap).
+struct SupportSet {
+  enum Kind { Point, Segment, Flat } kind;
+  Vec3 p0, p1;  // the point; the segment's ends; on a flat patch, a GJK/EPA witness moved onto it
+};
+
+// State shared by the pair algorithms of one Collider, and the per-call scratch they reuse.
+struct NarrowPhase {
+  double margin = 0;
+  std::vector<Geometry> geometry;
+  std::vector<Polyhedron> polyhedra;
+  std::vector<Mat3> rotation;  // shape frame -> world, per body
+  std::vector<Vec3> position;
+  std::vector<Vec3> box_lo, box_hi;  // world AABB per body
+
+  std::vector<Vec3> reference, incident, scratch, patch;
+  std::vector<PairPoint> candidates;
+
+  int generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, Vec3& axis, PairPoint* out);
+
+ private:
+  struct Face {
+    bool cap = false;
+    Vec3 normal = Vec3::Zero();  // world, outward
+    double alignment = -2;       // normal . direction (-2: the shape has no flat face)
+    int index = -1;              // polyhedron face, or the cap's side (+1 / -1 along the axis)
+  };
+  Vec3 support(int body, const Vec3& dir) const;
+  PairPoint best_face_axis(int a, int b, const Vec3& previous) const;
+  SupportSet support_set(int body, const Vec3& dir, const Vec3& near);
+  bool feature(int body, const SupportSet& set, Vec3& f0, Vec3& f1) const;
+  Face flat_face(int body, const Vec3& dir) const;
+  void face_polygon(int body, const Face& face, std::vector<Vec3>& poly) const;
+  FeatureKind incident_feature(int body, const Vec3& m, double& radius);
+  void add_candidate(const PairPoint& p, double tolerance);
+};
+
+// The point of the exact shape (not the rounded core) farthest along the world direction `dir`.
+Vec3 NarrowPhase::support(int body, const Vec3& dir) const {
+  const Geometry& g = geometry[body];
+  const Mat3& R = rotation[body];
+  const Vec3 d = R.transpose() * dir;
+  Vec3 local = Vec3::Zero();
+  switch (g.type) {
+    case ShapeType::Sphere:
+      local = g.radius * d;
+      break;
+    case ShapeType::Capsule:
+      local = Vec3(0, 0, d.z() >= 0 ? g.half_length : -g.half_length) + g.radius * d;
+      break;
+    case ShapeType::Cylinder: {
+      local = Vec3(0, 0, d.z() >= 0 ? g.half_length : -g.half_length);
+      const double across = std::hypot(d.x(), d.y());
+      if (across > 0) local += Vec3(d.x(), d.y(), 0) * (g.radius / across);
+      break;
+    }
+    case ShapeType::Box:
+    case ShapeType::Convex: {
+      const Polyhedron& p = polyhedra[g.polyhedron];
+      double best = -INFINITY;
+      for (const Vec3& v : p.vertices)
+        if (v.dot(d) > best) best = v.dot(d), local = v;
+      break;
+    }
+  }
+  return position[body] + R * local;
+}
+
+// The point of convex polygon `poly` (counter-clockwise about its normal m) nearest to p, a point
+// in its plane.
+Vec3 into_polygon(const std::vector<Vec3>& poly, const Vec3& m, const Vec3& p) {
+  const int k = static_cast<int>(poly.size());
+  bool inside = true;
+  for (int e = 0; e < k && inside; ++e) inside = m.cross(poly[(e + 1) % k] - poly[e]).dot(p - poly[e]) >= 0;
+  if (inside) return p;
+  Vec3 best = poly[0];
+  for (int e = 0; e < k; ++e) {
+    const Vec3 edge = poly[(e + 1) % k] - poly[e];
+    const double t = std::clamp(edge.dot(p - poly[e]) / edge.squaredNorm(), 0.0, 1.0);
+    const Vec3 q = poly[e] + t * edge;
+    if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+  }
+  return best;
+}
+
+// A support set as a segment f0-f1 (a point when f0 = f1) that stays put as the normal turns: a
+// sphere's or capsule's core, a polytope's vertex or edge; false otherwise (a face, or any part of a
+// cylinder, whose rim point and side line turn with the normal).
+bool NarrowPhase::feature(int body, const SupportSet& set, Vec3& f0, Vec3& f1) const {
+  const Geometry& g = geometry[body];
+  if (g.type == ShapeType::Cylinder) return false;
+  if (g.type == ShapeType::Sphere || g.type == ShapeType::Capsule) {
+    const Vec3 half = g.half_length * rotation[body].col(2);
+    f0 = position[body] - half;
+    f1 = position[body] + half;
+    return true;
+  }
+  if (set.kind == SupportSet::Flat) return false;
+  f0 = set.p0;
+  f1 = set.kind == SupportSet::Point ? set.p0 : set.p1;
+  return true;
+}
+
+// When GJK and EPA both fail: of the flat faces' normals, the previous normal and the centre line,
+// the axis that separates the pair most (overlaps it least), with the support points along it.
+PairPoint NarrowPhase::best_face_axis(int a, int b, const Vec3& previous) const {
+  PairPoint best;
+  best.distance = -INFINITY;
+  auto consider = [&](const Vec3& n) {  // n from B towards A
+    const Vec3 pa = support(a, -n), pb = support(b, n);
+    const double gap = n.dot(pa - pb);
+    if (gap > best.distance) best = {pa, pb, n, gap};
+  };
+  auto faces_of = [&](int body, double sign) {
+    const Geometry& g = geometry[body];
+    if (g.polyhedron >= 0)
+      for (int f : polyhedra[g.polyhedron].supporting) consider(sign * (rotation[body] * polyhedra[g.polyhedron].normals[f]));
+    if (g.type == ShapeType::Cylinder)
+      for (double side : {-1.0, 1.0}) consider(side * rotation[body].col(2));
+  };
+  faces_of(a, -1);
+  faces_of(b, 1);
+  if (previous.squaredNorm() > 0) consider(previous);
+  consider(position[a] != position[b] ? Vec3((position[a] - position[b]).normalized()) : Vec3::UnitZ());
+  return best;
+}
+
+// The support set of `body` along the world direction `dir`. Points within kFlat of the size of
+// the farthest count as farthest: the normal is not known better, and a lone support point would
+// jump between the ends of an edge or a side line as the normal turns. `near` is a GJK/EPA
+// witness, used on a flat patch (EPA's witnesses on round parts lie on chords inside the surface).
+SupportSet NarrowPhase::support_set(int body, const Vec3& dir, const Vec3& near) {
+  const Geometry& g = geometry[body];
+  const Vec3& x = position[body];
+  const Mat3& R = rotation[body];
+  const Vec3 axis = R.col(2);
+  const double along = axis.dot(dir), flat = kFlat * g.size;
+  auto on_plane = [&](const Vec3& p) { return SupportSet{SupportSet::Flat, near + dir.dot(p - near) * dir, near}; };
+  switch (g.type) {
+    case ShapeType::Sphere:
+      return {SupportSet::Point, support(body, dir), {}};
+    case ShapeType::Capsule:
+    case ShapeType::Cylinder: {
+      if (2 * g.half_length * std::abs(along) <= flat) {  // a side line
+        const Vec3 side = x + g.radius * (dir - along * axis).normalized();
+        return {SupportSet::Segment, side + g.half_length * axis, side - g.half_length * axis};
+      }
+      if (g.type == ShapeType::Cylinder && 2 * g.radius * std::sqrt(std::max(0.0, 1 - along * along)) <= flat) {
+        // The cap: the witness moved onto it, within the rim.
+        const Vec3 centre = x + (along > 0 ? g.half_length : -g.half_length) * axis;
+        Vec3 across = near - centre - axis.dot(near - centre) * axis;
+        if (across.norm() > g.radius) across *= g.radius / across.norm();
+        return {SupportSet::Flat, centre + across, {}};
+      }
+      return {SupportSet::Point, support(body, dir), {}};
+    }
+    case ShapeType::Box:
+    case ShapeType::Convex: {
+      const Polyhedron& p = polyhedra[g.polyhedron];
+      const Vec3 d = R.transpose() * dir;
+      double top = -INFINITY;
+      for (const Vec3& v : p.vertices) top = std::max(top, v.dot(d));
+      int count = 0;
+      Vec3 ends[2];
+      for (const Vec3& v : p.vertices)
+        if (v.dot(d) >= top - flat && count++ < 2) ends[count - 1] = x + R * v;
+      if (count == 1) return {SupportSet::Point, ends[0], {}};
+      if (count == 2) return {SupportSet::Segment, ends[0], ends[1]};
+      // A face: the witness moved onto it, and into its polygon (a rounded core's witness can lie
+      // up to the rounding radius beyond the sharp face's edge).
+      Face face;
+      face.index = p.support_face(d);
+      face_polygon(body, face, patch);
+      SupportSet set = on_plane(ends[0]);
+      for (const Vec3& v : patch)
+        if (dir.dot(v - ends[0]) < -flat) return set;  // not that face: leave the witness
+      set.p0 = into_polygon(patch, R * p.normals[face.index], set.p0);
+      return set;
+    }
+  }
+  return on_plane(near);
+}
+
+// The flat face of `body` whose outward normal is most aligned with the world direction `dir`.
+NarrowPhase::Face NarrowPhase::flat_face(int body, const Vec3& dir) const {
+  const Geometry& g = geometry[body];
+  const Mat3& R = rotation[body];
+  Face face;
+  if (g.polyhedron >= 0) {
+    const Polyhedron& p = polyhedra[g.polyhedron];
+    face.index = p.support_face(R.transpose() * dir);
+    face.normal = R * p.normals[face.index];
+  } else if (g.type == ShapeType::Cylinder) {
+    const Vec3 axis = R.col(2);
+    face.index = axis.dot(dir) >= 0 ? 1 : -1;
+    face.normal = face.index * axis;
+    face.cap = true;
+  } else {
+    return face;
+  }
+  face.alignment = face.normal.dot(dir);
+  return face;
+}
+
+// The polygon of a flat face, world coordinates, counter-clockwise seen from outside.
+void NarrowPhase::face_polygon(int body, const Face& face, std::vector<Vec3>& poly) const {
+  const Geometry& g = geometry[body];
+  const Mat3& R = rotation[body];
+  const Vec3& x = position[body];
+  poly.clear();
+  if (!face.cap) {
+    const Polyhedron& p = polyhedra[g.polyhedron];
+    for (int k = p.face_offsets[face.index]; k < p.face_offsets[face.index + 1]; ++k)
+      poly.push_back(x + R * p.vertices[p.face_vertices[k]]);
+    return;
+  }
+  // A cap's corners run counter-clockwise about its outward normal (+z: increasing angle).
+  constexpr double kStep = 2 * 3.14159265358979323846 / kCapCorners;
+  for (int k = 0; k < kCapCorners; ++k) {
+    const double angle = face.index * k * kStep;
+    poly.push_back(x + R * Vec3(g.radius * std::cos(angle), g.radius * std::sin(angle), face.index * g.half_length));
+  }
+}
+
+// The feature of `body` that faces a reference face with outward normal m (world), in `incident`.
+FeatureKind NarrowPhase::incident_feature(int body, const Vec3& m, double& radius) {
+  const Geometry& g = geometry[body];
+  const Mat3& R = rotation[body];
+  const Vec3& x = position[body];
+  const Vec3 axis = R.col(2);
+  incident.clear();
+  radius = 0;
+  switch (g.type) {
+    case ShapeType::Sphere:
+      return FeatureKind::Point;
+    case ShapeType::Capsule:
+      radius = g.radius;
+      incident.push_back(x + g.half_length * axis);
+      incident.push_back(x - g.half_length * axis);
+      return FeatureKind::Segment;
+    case ShapeType::Cylinder: {
+      const double along = axis.dot(m);
+      // Jolt's rule: the cap when the axis is within 45 degrees of the normal, else the side line.
+      if (std::abs(along) >= std::sqrt(0.5)) {
+        Face cap;
+        cap.cap = true;
+        cap.index = along > 0 ? -1 : 1;
+        face_polygon(body, cap, incident);
+        return FeatureKind::Polygon;
+      }
+      const Vec3 side = (along * axis - m).normalized();
+      incident.push_back(x + g.radius * side + g.half_length * axis);
+      incident.push_back(x + g.radius * side - g.half_length * axis);
+      return FeatureKind::Segment;
+    }
+    case ShapeType::Box:
+    case ShapeType::Convex: {
+      Face face;
+      face.index = polyhedra[g.polyhedron].support_face(-(R.transpose() * m));
+      face_polygon(body, face, incident);
+      return FeatureKind::Polygon;
+    }
+  }
+  return FeatureKind::Point;
+}
+
+void NarrowPhase::add_candidate(const PairPoint& p, double tolerance) {
+  for (const PairPoint& c : candidates)
+    if ((c.on_a - p.on_a).squaredNorm() <= tolerance * tolerance) return;
+  candidates.push_back(p);
+}
+
+double deepest_distance(const std::vector<PairPoint>& points) {
+  double d = INFINITY;
+  for (const PairPoint& p : points) d = std::min(d, p.distance);
+  return d;
+}
+
+// Keeps the part of `poly` inside the side planes of the reference polygon `ref` (outward normal m).
+void clip_polygon(const std::vector<Vec3>& ref, const Vec3& m, std::vector<Vec3>& poly, std::vector<Vec3>& tmp) {
+  const int k = static_cast<int>(ref.size());
+  for (int e = 0; e < k && !poly.empty(); ++e) {
+    const Vec3& r0 = ref[e];
+    const Vec3 inward = m.cross(ref[(e + 1) % k] - r0);
+    tmp.clear();
+    const int n = static_cast<int>(poly.size());
+    for (int i = 0; i < n; ++i) {
+      const Vec3& p = poly[i];
+      const Vec3& q = poly[(i + 1) % n];
+      const double dp = inward.dot(p - r0), dq = inward.dot(q - r0);
+      if (dp >= 0) tmp.push_back(p);
+      if ((dp >= 0) != (dq >= 0)) tmp.push_back(p + (dp / (dp - dq)) * (q - p));
+    }
+    poly.swap(tmp);
+  }
+}
+
+// Clips the segment seg[0]-seg[1] to the side planes of `ref`; false if nothing is left.
+bool clip_segment(const std::vector<Vec3>& ref, const Vec3& m, std::vector<Vec3>& seg) {
+  const int k = static_cast<int>(ref.size());
+  const Vec3 p0 = seg[0], d = seg[1] - seg[0];
+  double t0 = 0, t1 = 1;
+  for (int e = 0; e < k; ++e) {
+    const Vec3 inward = m.cross(ref[(e + 1) % k] - ref[e]);
+    const double f0 = inward.dot(p0 - ref[e]), fd = inward.dot(d);
+    if (fd == 0) {
+      if (f0 < 0) return false;
+    } else if (fd > 0) {
+      t0 = std::max(t0, -f0 / fd);
+    } else {
+      t1 = std::min(t1, -f0 / fd);
+    }
+    if (t0 > t1) return false;
+  }
+  seg[0] = p0 + t0 * d;
+  seg[1] = p0 + t1 * d;
+  if (t0 == t1) seg.pop_back();
+  return true;
+}
+
+// Keeps at most kMaxPoints of `pts`: the deepest, the farthest from it, the one spanning the largest
+// triangle with those two, and the one adding the most area to that triangle (areas in the plane
+// normal to n).
+int reduce(std::vector<PairPoint>& pts, const Vec3& n) {
+  const int count = static_cast<int>(pts.size());
+  if (count <= kMaxPoints) return count;
+  auto mid = [&](int i) { return 0.5 * (pts[i].on_a + pts[i].on_b); };
+  int pick[kMaxPoints] = {0, -1, -1, -1};
+  for (int i = 1; i < count; ++i)
+    if (pts[i].distance < pts[pick[0]].distance) pick[0] = i;
+  const Vec3 p0 = mid(pick[0]);
+  double best = -1;
+  for (int i = 0; i < count; ++i) {
+    const double d = (mid(i) - p0).squaredNorm();
+    if (d > best) best = d, pick[1] = i;
+  }
+  const Vec3 p1 = mid(pick[1]);
+  best = -1;
+  for (int i = 0; i < count; ++i) {
+    const double a = std::abs((p1 - p0).cross(mid(i) - p0).dot(n));
+    if (a > best) best = a, pick[2] = i;
+  }
+  const Vec3 p2 = mid(pick[2]);
+  const double orientation = (p1 - p0).cross(p2 - p0).dot(n) >= 0 ? 1 : -1;
+  const Vec3 tri[3] = {p0, p1, p2};
+  best = 0;
+  for (int i = 0; i < count; ++i) {
+    if (i == pick[0] || i == pick[1] || i == pick[2]) continue;
+    const Vec3 p = mid(i);
+    for (int e = 0; e < 3; ++e) {
+      const double outside = -orientation * (tri[(e + 1) % 3] - tri[e]).cross(p - tri[e]).dot(n);
+      if (outside > best) best = outside, pick[3] = i;
+    }
+  }
+  const int kept = pick[3] >= 0 ? 4 : 3;
+  PairPoint chosen[kMaxPoints];
+  for (int k = 0; k < kept; ++k) chosen[k] = pts[pick[k]];
+  for (int k = 0; k < kept; ++k) pts[k] = chosen[k];
+  pts.resize(kept);
+  return kept;
+}
+
+// The pair's contacts (at most kMaxPoints) into `out`. `axis` is the pair's normal of the previous
+// call (zero at first), updated here.
+// Parameters (s, t) in [0, 1] of the closest points of segments p0-p1 and q0-q1 (Ericson,
+// Real-Time Collision Detection, 5.1.9).
+void closest_on_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, double& s, double& t) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  if (a <= 0 && e <= 0) {
+    s = t = 0;
+    return;
+  }
+  if (a <= 0) {
+    s = 0;
+    t = std::clamp(f / e, 0.0, 1.0);
+    return;
+  }
+  const double c = d1.dot(r);
+  if (e <= 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+    return;
+  }
+  const double b = d1.dot(d2), denom = a * e - b * b;
+  s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+}
+
+// Where across the normal n two support sets meet: at a lone point, where two segments pass
+// closest (seen along n), at the segment's point nearest a flat patch's witness, else midway.
+Vec3 meeting_point(const SupportSet& a, const SupportSet& b, const Vec3& n) {
+  if (a.kind == SupportSet::Point) return a.p0;
+  if (b.kind == SupportSet::Point) return b.p0;
+  auto flatten = [&](const Vec3& p) { return Vec3(p - n.dot(p) * n); };
+  double s = 0, t = 0;
+  if (a.kind == SupportSet::Segment && b.kind == SupportSet::Segment) {
+    closest_on_segments(flatten(a.p0), flatten(a.p1), flatten(b.p0), flatten(b.p1), s, t);
+    return 0.5 * (a.p0 + s * (a.p1 - a.p0) + b.p0 + t * (b.p1 - b.p0));
+  }
+  if (a.kind == SupportSet::Segment) {
+    closest_on_segments(flatten(a.p0), flatten(a.p1), flatten(b.p0), flatten(b.p0), s, t);
+    return a.p0 + s * (a.p1 - a.p0);
+  }
+  if (b.kind == SupportSet::Segment) {
+    closest_on_segments(flatten(b.p0), flatten(b.p1), flatten(a.p0), flatten(a.p0), s, t);
+    return b.p0 + s * (b.p1 - b.p0);
+  }
+  return 0.5 * (a.p0 + b.p0);
+}
+
+int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, Vec3& axis,
+                          PairPoint* out) {
+  // The broad phase pairs boxes grown by its own margin (Bullet's gDbvtMargin, 5 cm): pairs whose
+  // boxes are further apart than the contact margin stop here, and so do pairs that the previous
+  // normal still separates by more than the margin (any axis bounds the distance from below).
+  if (((box_lo[a] - box_hi[b]).array() > margin).any() || ((box_lo[b] - box_hi[a]).array() > margin).any()) return 0;
+  if (axis.squaredNorm() > 0 && axis.dot(support(a, -axis) - support(b, axis)) > margin) return 0;
+  const Geometry& ga = geometry[a];
+  const Geometry& gb = geometry[b];
+  // One rounded shape per pair keeps touching cores apart: none next to a sphere or capsule (their
+  // cores are a point or a segment), else B's, or A's when only A is a polytope (a cylinder's rim
+  // stays exact).
+  const bool round_pair = !ga.rounded || !gb.rounded;
+  const bool round_a = !round_pair && ga.polyhedron >= 0 && gb.polyhedron < 0;
+  const bool round_b = !round_pair && !round_a;
+  const btConvexShape* sa = round_a ? ga.rounded : ga.exact;
+  const btConvexShape* sb = round_b ? gb.rounded : gb.exact;
+  const double ra = round_a ? ga.rounding : ga.core_radius, rb = round_b ? gb.rounding : gb.core_radius;
+  const btTransform& ta = oa.getWorldTransform();
+  const btTransform& tb = ob.getWorldTransform();
+  const double scale = ga.size + gb.size;
+
+  // 1. Normal and closest pair by GJK on the cores (separated) or EPA on the shapes (cores overlap).
+  //    Each result is checked against the gap between the Bullet shapes' support planes along its
+  //    normal, a lower bound that equals the distance (or minus the depth) at the solution:
+  //    btGjkEpaSolver2's GJK can stop short of the minimum (it ends when a support point repeats
+  //    one of its last four) and then restarts from its normal; EPA can give up on a thin overlap
+  //    (it then returns its guess as the normal, at depth 0) and then the best axis among the
+  //    faces' normals stands in. btGjkEpaSolver2 works in A's frame: the guess is A - B there,
+  //    the normal comes back in it.
+  btVector3 guess = (axis.squaredNorm() > 0 ? to_bt(axis) : ta.getOrigin() - tb.getOrigin()) * ta.getBasis();
+  if (guess.length2() == 0) guess.setValue(0, 0, 1);
+  auto rounded_support = [](const btConvexShape* shape, const btTransform& t, const btVector3& world_dir) {
+    const btVector3 d = world_dir * t.getBasis();
+    return t * (shape->localGetSupportingVertexWithoutMargin(d) + d * shape->getMargin());
+  };
+  auto plane_gap = [&](const btVector3& local_n) {  // separation of the Bullet shapes along n
+    const btVector3 nw = ta.getBasis() * local_n;
+    return nw.dot(rounded_support(sa, ta, -nw) - rounded_support(sb, tb, nw));
+  };
+  const double tolerance = 1e-9 * scale;
+  btGjkEpaSolver2::sResults r;
+  PairPoint closest;
+  bool have_pair = false, converged = false;
+  for (int attempt = 0; attempt < 4 && !converged; ++attempt) {
+    if (!btGjkEpaSolver2::Distance(sa, ta, sb, tb, guess, r) || !(r.distance > tolerance)) break;
+    const double d = r.distance - ra - rb;
+    converged = d - plane_gap(r.normal) <= tolerance;
+    guess = r.normal * r.distance;
+    const Vec3 n = to_eigen(ta.getBasis() * r.normal);
+    closest = {to_eigen(r.witnesses[0]) - ra * n, to_eigen(r.witnesses[1]) + rb * n, n, d};
+    have_pair = true;
+  }
+  if (!converged) {
+    // EPA's normal on round parts is a polytope's approximation: a face's normal that overlaps
+    // the pair less is the better axis.
+    const PairPoint face = best_face_axis(a, b, axis);
+    if (btGjkEpaSolver2::Penetration(sa, ta, sb, tb, guess, r, true) &&
+        std::abs(r.distance - plane_gap(r.normal)) <= 1e-6 * scale && r.distance >= face.distance - tolerance) {
+      closest = {to_eigen(r.witnesses[0]), to_eigen(r.witnesses[1]), to_eigen(ta.getBasis() * r.normal), r.distance};
+    } else if (!have_pair || face.distance > closest.distance) {
+      closest = face;
+    }
+  }
+  axis = closest.normal;
+  // A rounded shape lies within a few rounding radii inside the exact one.
+  if (converged && closest.distance > margin + 4 * (ga.rounding + gb.rounding)) return 0;
+
+  // 2. The closest pair moves onto the exact shapes' support sets along the normal, so its distance
+  //    is the gap between their support planes: exact for the true normal, which the cores share
+  //    with the shapes (an edge cross product, a direction between round parts), and free of the
+  //    rounding. Across the normal it lies at a lone support point, else where two support
+  //    segments pass closest, else at the witnesses.
+  Vec3 n = closest.normal;
+  SupportSet sa_set = support_set(a, -n, closest.on_a), sb_set = support_set(b, n, closest.on_b);
+  // The normal of separated shapes is the line between their closest points. GJK measured one
+  // shape rounded: where both support sets are fixed points or segments (vertices, edges, the core
+  // of a sphere or capsule), the line between their closest points is the sharp shapes' normal,
+  // provided the same features support along it.
+  Vec3 fa0, fa1, fb0, fb1;
+  if (feature(a, sa_set, fa0, fa1) && feature(b, sb_set, fb0, fb1)) {
+    double s = 0, t = 0;
+    closest_on_segments(fa0, fa1, fb0, fb1, s, t);
+    const Vec3 u = fa0 + s * (fa1 - fa0) - (fb0 + t * (fb1 - fb0));
+    if (u.dot(n) > 0) {
+      const Vec3 refined = u.normalized();
+      const SupportSet ra = support_set(a, -refined, closest.on_a), rb = support_set(b, refined, closest.on_b);
+      Vec3 ga0, ga1, gb0, gb1;
+      if (feature(a, ra, ga0, ga1) && feature(b, rb, gb0, gb1) && ga0 == fa0 && ga1 == fa1 && gb0 == fb0 &&
+          gb1 == fb1) {
+        n = refined;
+        sa_set = ra;
+        sb_set = rb;
+      }
+    }
+  }
+  closest.normal = n;
+  const double plane_a = n.dot(sa_set.p0), plane_b = n.dot(sb_set.p0);
+  closest.distance = plane_a - plane_b;
+  if (!(closest.distance <= margin)) return 0;
+  const Vec3 across = meeting_point(sa_set, sb_set, n);
+  closest.on_a = across + (plane_a - n.dot(across)) * n;
+  closest.on_b = across + (plane_b - n.dot(across)) * n;
+
+  // 3. Reference face: the flat face of A facing B or of B facing A best aligned with the normal.
+  //    Cylinder caps are polygons inscribed in the disc, so a polyhedron face wins a tie. The
+  //    contacts are the incident feature clipped against the face's side planes, each at its exact
+  //    distance from the face plane.
+  const Face fa = flat_face(a, -n), fb = flat_face(b, n);
+  const double ca = fa.alignment - (fa.cap ? 1e-9 : 0), cb = fb.alignment - (fb.cap ? 1e-9 : 0);
+  candidates.clear();
+  if (std::max(ca, cb) >= kFaceAlignment) {
+    const bool ref_is_a = ca >= cb;
+    const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
+    const Face& face = ref_is_a ? fa : fb;
+    const Vec3& m = face.normal;  // outward from the reference body, towards the incident one
+    face_polygon(ref, face, reference);
+    const double plane = m.dot(reference[0]);
+    auto add = [&](const Vec3& q) {  // q on the incident surface
+      const double s = m.dot(q) - plane;
+      if (!(s <= margin)) return;
+      const Vec3 foot = q - s * m;
+      add_candidate(ref_is_a ? PairPoint{foot, q, -m, s} : PairPoint{q, foot, m, s}, 1e-9 * scale);
+    };
+    double radius = 0;
+    const FeatureKind kind = incident_feature(inc, m, radius);
+    if (kind == FeatureKind::Polygon) {
+      clip_polygon(reference, m, incident, scratch);
+      for (const Vec3& q : incident) add(q);
+    } else if (kind == FeatureKind::Segment && clip_segment(reference, m, incident)) {
+      for (const Vec3& core : incident) add(core - radius * m);
+    }
+  }
+  // 4. The closest pair alone (edge on edge, round on round, nothing over the face), or with the
+  //    face's points when it is deeper than all of them (a tilted rim between the corners of its cap
+  //    polygon, a part beside the face). The allowance is the normal's error times the extent of
+  //    the support sets.
+  if (closest.distance < deepest_distance(candidates) - 1e-7 * scale) candidates.push_back(closest);
+  const int count = reduce(candidates, n);
+  std::copy(candidates.begin(), candidates.begin() + count, out);
+  return count;
+}
+
+// The dispatcher keeps the narrow phase for its algorithms and gives manifolds the margin as
+// Bullet's breaking threshold (Bullet's default is relative to the shape size).
+class Dispatcher : public btCollisionDispatcher {
+ public:
+  Dispatcher(btCollisionConfiguration* config, NarrowPhase* narrow)
+      : btCollisionDispatcher(config), narrow_(narrow) {}
+  NarrowPhase& narrow() { return *narrow_; }
+  btPersistentManifold* getNewManifold(const btCollisionObject* b0, const btCollisionObject* b1) override {
+    btPersistentManifold* m = btCollisionDispatcher::getNewManifold(b0, b1);
+    m->setContactBreakingThreshold(narrow_->margin);
+    m->setContactProcessingThreshold(narrow_->margin);
+    return m;
+  }
+
+ private:
+  NarrowPhase* narrow_;
+};
+
+// The pair algorithm: generates the pair's points and carries ids over from its previous points.
+class PairAlgorithm : public btCollisionAlgorithm {
+ public:
+  PairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
+                const btCollisionObjectWrapper* w1)
+      : btCollisionAlgorithm(ci),
+        manifold_(m_dispatcher->getNewManifold(w0->getCollisionObject(), w1->getCollisionObject())) {}
+  ~PairAlgorithm() override { m_dispatcher->releaseManifold(manifold_); }
+
+  void processCollision(const btCollisionObjectWrapper*, const btCollisionObjectWrapper*, const btDispatcherInfo&,
+                        btManifoldResult*) override {
+    NarrowPhase& narrow = static_cast<Dispatcher*>(m_dispatcher)->narrow();
+    const btCollisionObject& oa = *manifold_->getBody0();
+    const btCollisionObject& ob = *manifold_->getBody1();
+    const int a = oa.getUserIndex(), b = ob.getUserIndex();
+    PairPoint pts[kMaxPoints];
+    const int count = narrow.generate(a, b, oa, ob, axis_, pts);
+    update_manifold(narrow, a, b, pts, count);
+  }
+
+  btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
+                                 btManifoldResult*) override {
+    return 1;
+  }
+  void getAllContactManifolds(btManifoldArray& manifolds) override { manifolds.push_back(manifold_); }
+
+  struct CreateFunc : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* w0,
+                                                   const btCollisionObjectWrapper* w1) override {
+      void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(PairAlgorithm));
+      return new (memory) PairAlgorithm(ci, w0, w1);
+    }
+  };
+
+ private:
+  // Replaces the manifold's points by the new ones; a new point takes the id of the closest previous
+  // point within the margin (distance of the anchors in A's frame or in B's, whichever is smaller),
+  // each previous point going to one new point at most, closest pairs first.
+  void update_manifold(const NarrowPhase& narrow, int a, int b, const PairPoint* pts, int count) {
+    const Mat3& Ra = narrow.rotation[a];
+    const Mat3& Rb = narrow.rotation[b];
+    Vec3 local_a[kMaxPoints], local_b[kMaxPoints];
+    for (int i = 0; i < count; ++i) {
+      local_a[i] = Ra.transpose() * (pts[i].on_a - narrow.position[a]);
+      local_b[i] = Rb.transpose() * (pts[i].on_b - narrow.position[b]);
+    }
+    const int old = manifold_->getNumContacts();
+    void* ids[kMaxPoints] = {};
+    bool taken_new[kMaxPoints] = {}, taken_old[kMaxPoints] = {};
+    const double radius2 = narrow.margin * narrow.margin;
+    for (int round = 0; round < std::min(count, old); ++round) {
+      int bi = -1, bj = -1;
+      double best = radius2;
+      for (int i = 0; i < count; ++i) {
+        if (taken_new[i]) continue;
+        for (int j = 0; j < old; ++j) {
+          if (taken_old[j]) continue;
+          const btManifoldPoint& p = manifold_->getContactPoint(j);
+          const double d = std::min((to_eigen(p.m_localPointA) - local_a[i]).squaredNorm(),
+                                    (to_eigen(p.m_localPointB) - local_b[i]).squaredNorm());
+          if (d <= best) best = d, bi = i, bj = j;
+        }
+      }
+      if (bi < 0) break;
+      taken_new[bi] = taken_old[bj] = true;
+      ids[bi] = manifold_->getContactPoint(bj).m_userPersistentData;
+    }
+    for (int j = 0; j < old; ++j) manifold_->getContactPoint(j).m_userPersistentData = nullptr;
+    manifold_->clearManifold();
+    for (int i = 0; i < count; ++i) {
+      btManifoldPoint p(to_bt(local_a[i]), to_bt(local_b[i]), to_bt(pts[i].normal), pts[i].distance);
+      p.m_positionWorldOnA = to_bt(pts[i].on_a);
+      p.m_positionWorldOnB = to_bt(pts[i].on_b);
+      p.m_userPersistentData = ids[i];
+      manifold_->addManifoldPoint(p);
+    }
+  }
+
+  btPersistentManifold* manifold_;
+  Vec3 axis_ = Vec3::Zero();  // the pair's last normal: warm start and separation test
+};
+
+// Broad-phase filter: Bullet's group/mask test (static-static pairs) and the joined pairs.
+struct PairFilter : btOverlapFilterCallback {
+  std::vector<std::uint64_t> excluded;  // sorted keys of joined pairs without collide_connected
+
+  static std::uint64_t key(int i, int j) {
+    return (static_cast<std::uint64_t>(std::min(i, j)) << 32) | static_cast<std::uint32_t>(std::max(i, j));
+  }
+  bool needBroadphaseCollision(btBroadphaseProxy* p0, btBroadphaseProxy* p1) const override {
+    if (!(p0->m_collisionFilterGroup & p1->m_collisionFilterMask) ||
+        !(p1->m_collisionFilterGroup & p0->m_collisionFilterMask))
+      return false;
+    const int i = static_cast<const btCollisionObject*>(p0->m_clientObject)->getUserIndex();
+    const int j = static_cast<const btCollisionObject*>(p1->m_clientObject)->getUserIndex();
+    return !std::binary_search(excluded.begin(), excluded.end(), key(i, j));
+  }
+};
+
+// The exact Bullet shape of `shape` into shapes[0], and for boxes, cylinders and hulls a rounded
+// one into shapes[1]; `g` is filled in (its pointers too).
+void make_bullet_shapes(const Shape& shape, double margin, Geometry& g, std::vector<Polyhedron>& polyhedra,
+                        std::unique_ptr<btConvexShape> (&shapes)[2]) {
+  g.type = shape.type;
+  switch (shape.type) {
+    case ShapeType::Sphere:
+      g.radius = g.core_radius = g.size = shape.radius;
+      shapes[0] = std::make_unique<btSphereShape>(shape.radius);
+      break;
+    case ShapeType::Capsule:
+      g.radius = g.core_radius = shape.radius;
+      g.half_length = shape.half_length;
+      g.size = shape.radius + shape.half_length;
+      shapes[0] = std::make_unique<btCapsuleShapeZ>(shape.radius, 2 * shape.half_length);
+      break;
+    case ShapeType::Cylinder: {
+      g.radius = shape.radius;
+      g.half_length = shape.half_length;
+      g.size = std::hypot(shape.radius, shape.half_length);
+      g.rounding = rounding_radius(margin, std::min(shape.radius, shape.half_length), g.size);
+      const btVector3 half(shape.radius, shape.radius, shape.half_length);
+      shapes[0] = std::make_unique<btCylinderShapeZ>(half);
+      shapes[1] = std::make_unique<btCylinderShapeZ>(half);
+      break;
+    }
+    case ShapeType::Box: {
+      const Vec3& h = shape.half_extents;
+      std::vector<Vec3> corners;
+      for (int i = 0; i < 8; ++i) corners.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+      g.polyhedron = static_cast<int>(polyhedra.size());
+      polyhedra.push_back(make_polyhedron(corners));
+      g.size = h.norm();
+      g.rounding = rounding_radius(margin, h.minCoeff(), g.size);
+      shapes[0] = std::make_unique<btBoxShape>(to_bt(h));
+      shapes[1] = std::make_unique<btBoxShape>(to_bt(h));
+      break;
+    }
+    case ShapeType::Convex: {
+      g.polyhedron = static_cast<int>(polyhedra.size());
+      polyhedra.push_back(make_polyhedron(shape.vertices));
+      const Polyhedron& p = polyhedra.back();
+      Vec3 c = Vec3::Zero();
+      for (const Vec3& v : p.vertices) c += v;
+      c /= static_cast<double>(p.vertices.size());
+      double inner = INFINITY, outer = 0;
+      for (int f : p.supporting) inner = std::min(inner, p.offsets[f] - p.normals[f].dot(c));
+      for (const Vec3& v : p.vertices) outer = std::max(outer, (v - c).norm());
+      g.size = outer;
+      g.rounding = rounding_radius(margin, inner, outer);
+      // The rounded core: the hull scaled about c so that every face moves in by at least the
+      // rounding radius.
+      const double shrink = 1 - g.rounding / inner;
+      auto exact = std::make_unique<btConvexHullShape>();
+      auto core = std::make_unique<btConvexHullShape>();
+      for (const Vec3& v : p.vertices) {
+        exact->addPoint(to_bt(v), false);
+        core->addPoint(to_bt(c + shrink * (v - c)), false);
+      }
+      exact->recalcLocalAabb();
+      core->recalcLocalAabb();
+      shapes[0] = std::move(exact);
+      shapes[1] = std::move(core);
+      break;
+    }
+  }
+  // Boxes and cylinders keep their outer size when the margin changes: their core shrinks.
+  if (shapes[1]) {
+    shapes[0]->setMargin(0);
+    shapes[1]->setMargin(g.rounding);
+  }
+  g.exact = shapes[0].get();
+  g.rounded = shapes[1].get();
+}
+
+constexpr std::uint64_t kFresh = std::uint64_t{1} << 63;  // marks a point that has no id yet
+
+}  // namespace
+
+struct Collider::Impl {
+  NarrowPhase narrow;
+  std::vector<char> is_static;
+  std::vector<std::unique_ptr<btConvexShape>> shapes;  // per body: exact, rounded (or none)
+  std::vector<std::unique_ptr<btCollisionObject>> objects;
+  std::vector<Vec3> last_position;
+  std::vector<Quat> last_orientation;
+  bool posed = false;
+  PairFilter filter;
+  PairAlgorithm::CreateFunc create_pair;
+  std::unique_ptr<btDefaultCollisionConfiguration> config;
+  std::unique_ptr<Dispatcher> dispatcher;
+  std::unique_ptr<btDbvtBroadphase> broadphase;
+  std::unique_ptr<btCollisionWorld> world;  // destroyed first: it releases pairs and manifolds
+  std::vector<btManifoldPoint*> fresh;       // points awaiting an id in the current call
+  std::uint64_t last_id = 0;
+};
+
+Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  if (!std::isfinite(margin) || margin < 0)
+    throw InputError("contact margin must be finite and non-negative (got " + std::to_string(margin) + ")");
+  const int n = static_cast<int>(scene.bodies.size());
+  NarrowPhase& narrow = m.narrow;
+  narrow.margin = margin;
+  narrow.geometry.resize(n);
+  narrow.rotation.assign(n, Mat3::Identity());
+  narrow.position.assign(n, Vec3::Zero());
+  narrow.box_lo.assign(n, Vec3::Zero());
+  narrow.box_hi.assign(n, Vec3::Zero());
+
+  btDefaultCollisionConstructionInfo info;
+  info.m_customCollisionAlgorithmMaxElementSize = static_cast<int>(sizeof(PairAlgorithm));
+  // Pools for the pairs of a dense pile (about 20 broad-phase pairs per body); beyond, Bullet allocates.
+  info.m_defaultMaxPersistentManifoldPoolSize = info.m_defaultMaxCollisionAlgorithmPoolSize = std::max(4096, 16 * n);
+  m.config = std::make_unique<btDefaultCollisionConfiguration>(info);
+  m.dispatcher = std::make_unique<Dispatcher>(m.config.get(), &narrow);
+  for (int t0 : {SPHERE_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, CAPSULE_SHAPE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,
+                 CONVEX_HULL_SHAPE_PROXYTYPE})
+    for (int t1 : {SPHERE_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, CAPSULE_SHAPE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,
+                   CONVEX_HULL_SHAPE_PROXYTYPE})
+      m.dispatcher->registerCollisionCreateFunc(t0, t1, &m.create_pair);
+  m.broadphase = std::make_unique<btDbvtBroadphase>();
+  m.world = std::make_unique<btCollisionWorld>(m.dispatcher.get(), m.broadphase.get(), m.config.get());
+
+  for (const JointDef& j : scene.joints) {
+    if (j.body_a < 0 || j.body_a >= n || j.body_b < -1 || j.body_b >= n)
+      throw InputError("joint between bodies " + std::to_string(j.body_a) + " and " + std::to_string(j.body_b) +
+                       ": no such body");
+    if (!j.collide_connected && j.body_b >= 0) m.filter.excluded.push_back(PairFilter::key(j.body_a, j.body_b));
+  }
+  std::sort(m.filter.excluded.begin(), m.filter.excluded.end());
+  m.world->getPairCache()->setOverlapFilterCallback(&m.filter);
+
+  m.is_static.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const BodyDef& body = scene.bodies[i];
+    m.is_static[i] = body.is_static;
+    std::unique_ptr<btConvexShape> pair[2];
+    try {
+      make_bullet_shapes(body.shape, margin, narrow.geometry[i], narrow.polyhedra, pair);
+    } catch (const InputError& e) {
+      throw InputError("body '" + body.name + "': " + e.what());
+    }
+    auto object = std::make_unique<btCollisionObject>();
+    object->setCollisionShape(pair[0].get());
+    for (auto& shape : pair)
+      if (shape) m.shapes.push_back(std::move(shape));
+    object->setUserIndex(i);
+    if (body.is_static) object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+    const int group = body.is_static ? btBroadphaseProxy::StaticFilter : btBroadphaseProxy::DefaultFilter;
+    const int mask = body.is_static ? btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter
+                                    : btBroadphaseProxy::AllFilter;
+    m.world->addCollisionObject(object.get(), group, mask);
+    m.objects.push_back(std::move(object));
+  }
+  m.last_position.assign(n, Vec3::Zero());
+  m.last_orientation.assign(n, Quat::Identity());
+}
+
+Collider::~Collider() = default;
+
+void Collider::collide(const std::vector<Vec3>& frame_position, const std::vector<Quat>& frame_orientation,
+                       std::vector<Contact>& contacts) {
+  Impl& m = *impl_;
+  NarrowPhase& narrow = m.narrow;
+  const int n = static_cast<int>(m.objects.size());
+  if (static_cast<int>(frame_position.size()) != n || static_cast<int>(frame_orientation.size()) != n)
+    throw std::invalid_argument("collide: expected " + std::to_string(n) + " poses");
+
+  // Poses and broad-phase boxes (grown by the margin) of the bodies that moved.
+  const btVector3 grow(narrow.margin, narrow.margin, narrow.margin);
+  for (int i = 0; i < n; ++i) {
+    const Vec3& x = frame_position[i];
+    const Quat& q = frame_orientation[i];
+    if (!x.allFinite() || !q.coeffs().allFinite() || q.squaredNorm() == 0)
+      throw std::invalid_argument("collide: body " + std::to_string(i) + " has a non-finite pose");
+    if (m.posed && x == m.last_position[i] && q.coeffs() == m.last_orientation[i].coeffs()) continue;
+    m.last_position[i] = x;
+    m.last_orientation[i] = q;
+    const Mat3 R = q.normalized().toRotationMatrix();
+    narrow.rotation[i] = R;
+    narrow.position[i] = x;
+    const btTransform t(btMatrix3x3(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)),
+                        to_bt(x));
+    btCollisionObject& object = *m.objects[i];
+    object.setWorldTransform(t);
+    btVector3 lo, hi;
+    object.getCollisionShape()->getAabb(t, lo, hi);
+    narrow.box_lo[i] = to_eigen(lo);
+    narrow.box_hi[i] = to_eigen(hi);
+    m.broadphase->setAabb(object.getBroadphaseHandle(), lo - grow, hi + grow, m.dispatcher.get());
+  }
+  m.posed = true;
+
+  m.world->computeOverlappingPairs();
+  m.dispatcher->dispatchAllCollisionPairs(m.world->getPairCache(), m.world->getDispatchInfo(), m.dispatcher.get());
+
+  // Contacts with body_a dynamic (the lower index when both are), normal from b into a.
+  contacts.clear();
+  m.fresh.clear();
+  const int manifolds = m.dispatcher->getNumManifolds();
+  for (int k = 0; k < manifolds; ++k) {
+    btPersistentManifold& mf = *m.dispatcher->getManifoldByIndexInternal(k);
+    const int i0 = mf.getBody0()->getUserIndex(), i1 = mf.getBody1()->getUserIndex();
+    const bool swap = m.is_static[i0] || (!m.is_static[i1] && i1 < i0);
+    for (int p = 0; p < mf.getNumContacts(); ++p) {
+      btManifoldPoint& pt = mf.getContactPoint(p);
+      Contact c;
+      c.body_a = swap ? i1 : i0;
+      c.body_b = swap ? i0 : i1;
+      const Vec3 normal = to_eigen(pt.m_normalWorldOnB);
+      c.normal = swap ? -normal : normal;
+      c.point = 0.5 * (to_eigen(pt.m_positionWorldOnA) + to_eigen(pt.m_positionWorldOnB));
+      c.distance = pt.m_distance1;
+      c.id = reinterpret_cast<std::uintptr_t>(pt.m_userPersistentData);
+      if (c.id == 0) {
+        c.id = kFresh | m.fresh.size();
+        m.fresh.push_back(&pt);
+      }
+      contacts.push_back(c);
+    }
+  }
+  std::sort(contacts.begin(), contacts.end(), [](const Contact& x, const Contact& y) {
+    if (x.body_a != y.body_a) return x.body_a < y.body_a;
+    if (x.body_b != y.body_b) return x.body_b < y.body_b;
+    return x.id < y.id;
+  });
+  // Fresh ids in sorted order: they exceed every earlier id, so the order stays sorted.
+  for (Contact& c : contacts) {
+    if (!(c.id & kFresh)) continue;
+    btManifoldPoint& pt = *m.fresh[c.id & ~kFresh];
+    c.id = ++m.last_id;
+    pt.m_userPersistentData = reinterpret_cast<void*>(static_cast<std::uintptr_t>(c.id));
+  }
+}
+
+}  // namespace rbpart

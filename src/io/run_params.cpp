@@ -1,0 +1,42 @@
+#include "io/run_params.hpp"
+
+#include "io/text_format.hpp"
+
+namespace rbpart {
+
+namespace {
+
+const char* solver_name(SolverKind kind) {
+  switch (kind) {
+    case SolverKind::Direct: return "direct";
+    case SolverKind::Pgs: return "pgs";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
+  const auto real = [](double value) { return round_trip(value); };
+  const auto integer = [](int value) { return std::to_string(value); };
+  return {
+      {"erp", real(step.erp)},
+      {"slop", real(step.slop)},
+      {"sigma_floor", real(step.sigma_floor)},
+      {"sliding_velocity_eps", real(step.sliding_velocity_eps)},
+      {"contact_margin", real(step.contact_margin)},
+      {"joint_projection_iterations", integer(step.joint_projection_iterations)},
+      {"joint_tolerance", real(step.joint_tolerance)},
+      {"solver", solver_name(solver.kind)},
+      {"dense_max_rows", integer(solver.dense_max_rows)},
+      {"max_pivot_iterations", integer(solver.max_pivot_iterations)},
+      {"murty_after", integer(solver.murty_after)},
+      {"friction_passes", integer(solver.friction_passes)},
+      {"friction_tolerance", real(solver.friction_tolerance)},
+      {"pgs_iterations", integer(solver.pgs_iterations)},
+      {"pgs_tolerance", real(solver.pgs_tolerance)},
+      {"threads", integer(solver.threads)},
+  };
+}
+
+}  // namespace rbpart

@@ -1,0 +1,18 @@
+#pragma once
+// The parameters of a run as named text, reported in every output (stats header, state file) so a
+// run can be reproduced from its outputs alone (DESIGN.md §2: "reported in outputs").
+#include <rbpart/params.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rbpart {
+
+using ParamList = std::vector<std::pair<std::string, std::string>>;
+
+// Every field of StepParams and SolverParams, named as in params.hpp (the solver kind as
+// "solver"), doubles in round-trip form: {"erp", "0.2"}, ..., {"solver", "direct"}, ...
+ParamList run_parameters(const StepParams& step, const SolverParams& solver);
+
+}  // namespace rbpart

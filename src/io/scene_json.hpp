@@ -1,0 +1,30 @@
+#pragma once
+// Scene files (DESIGN.md §9): JSON, z up, SI units, quaternions [w, x, y, z]. Loading is strict —
+// unknown keys, wrong types, duplicate keys, non-finite numbers and physically meaningless values
+// are rejected with one line naming the file, the field path and the problem, e.g.
+//   scene.json: bodies[3].shape.radius: must be positive (got -0.5)
+// Extensions to the §9 format: "steps" (the scene's default step count) and a joint's
+// "collide_connected" (whether the joined bodies collide; default false).
+#include <rbpart/scene.hpp>
+
+#include <string>
+
+namespace rbpart {
+
+// Reads and validates a scene file; throws InputError prefixed with `path`.
+SceneDef load_scene_file(const std::string& path);
+
+// Validates scene text; errors are prefixed with `source_name`. Optional keys take the SceneDef
+// defaults (a body's name defaults to "body<i>"); a quaternion is normalised unless it is already
+// unit to within 1e-12, so that loading an exported scene reproduces it bit for bit.
+SceneDef parse_scene(const std::string& text, const std::string& source_name);
+
+// Every field of the scene as scene-file JSON; parse_scene of the result gives back the same
+// SceneDef bit for bit (a body's mass is written instead of its density when both are set, as the
+// engine uses the mass then; a friction < 0, "the scene default", is left out).
+std::string scene_to_json(const SceneDef& scene);
+
+// scene_to_json into `path`, atomically.
+void write_scene_file(const std::string& path, const SceneDef& scene);
+
+}  // namespace rbpart

@@ -1,0 +1,163 @@
+#include "solve/island_system.hpp"
+
+#include <algorithm>
+
+namespace rbpart {
+
+void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Islands& islands, int island,
+                          const std::vector<int>& local_row) {
+  const int row_begin = islands.row_offset[island], body_begin = islands.body_offset[island];
+  rows = islands.row_offset[island + 1] - row_begin;
+  bodies = islands.body_offset[island + 1] - body_begin;
+  global_rows = islands.rows.data() + row_begin;
+  global_bodies = islands.bodies.data() + body_begin;
+
+  inv_mass.resize(bodies);
+  inv_inertia.resize(bodies);
+  for (int b = 0; b < bodies; ++b) {
+    inv_mass[b] = bodies_in.inv_mass[global_bodies[b]];
+    inv_inertia[b] = bodies_in.inv_inertia[global_bodies[b]];
+  }
+
+  body.resize(rows);
+  jac.resize(rows);
+  mjac.resize(rows);
+  q.resize(rows);
+  lo.resize(rows);
+  hi.resize(rows);
+  sigma.resize(rows);
+  diag.resize(rows);
+  normal_of.resize(rows);
+  mu.resize(rows);
+  body_slot_offset.assign(bodies + 1, 0);
+  for (int r = 0; r < rows; ++r) {
+    const int g = global_rows[r];
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = all.body[g][slot];
+      // Island bodies are sorted, so the local index is a binary search away.
+      body[r][slot] = b < 0 ? -1 : static_cast<int>(std::lower_bound(global_bodies, global_bodies + bodies, b) - global_bodies);
+      jac[r][slot] = all.jac[g][slot];
+    }
+    if (body[r][0] < 0 || body[r][0] == body[r][1]) {
+      // Keep slot 0 filled; a row naming one body twice acts on it with the summed blocks.
+      if (body[r][0] == body[r][1]) jac[r][0] += jac[r][1];
+      else jac[r][0] = jac[r][1];
+      body[r][0] = body[r][1] >= 0 ? body[r][1] : body[r][0];
+      body[r][1] = -1;
+      jac[r][1].setZero();
+    }
+    double jmj = 0;
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = body[r][slot];
+      if (b < 0) {
+        mjac[r][slot].setZero();
+        continue;
+      }
+      mjac[r][slot] << inv_mass[b] * jac[r][slot].head<3>(), inv_inertia[b] * jac[r][slot].tail<3>();
+      jmj += jac[r][slot].dot(mjac[r][slot]);
+      ++body_slot_offset[b + 1];
+    }
+    q[r] = all.q[g];
+    lo[r] = all.lo[g];
+    hi[r] = all.hi[g];
+    sigma[r] = all.sigma[g];
+    diag[r] = jmj + sigma[r];
+    normal_of[r] = all.normal_of[g] >= 0 ? local_row[all.normal_of[g]] : -1;
+    mu[r] = all.mu[g];
+  }
+  for (int b = 0; b < bodies; ++b) body_slot_offset[b + 1] += body_slot_offset[b];
+  body_slots.resize(body_slot_offset[bodies]);
+  std::vector<int> fill(body_slot_offset.begin(), body_slot_offset.end() - 1);
+  for (int r = 0; r < rows; ++r)
+    for (int slot = 0; slot < 2; ++slot)
+      if (body[r][slot] >= 0) body_slots[fill[body[r][slot]]++] = 2 * r + slot;
+}
+
+std::vector<int> local_row_index(const Rows& rows, const Islands& islands) {
+  std::vector<int> local(rows.size(), -1);
+  for (std::size_t i = 0; i < islands.count(); ++i)
+    for (int k = islands.row_offset[i]; k < islands.row_offset[i + 1]; ++k)
+      local[islands.rows[k]] = k - islands.row_offset[i];
+  return local;
+}
+
+LowerCsc LowerCsc::from_dense(const Eigen::MatrixXd& a) {
+  LowerCsc m;
+  m.n = static_cast<int>(a.rows());
+  for (int c = 0; c < m.n; ++c) {
+    for (int r = c; r < m.n; ++r)
+      if (a(r, c) != 0.0 || r == c) {
+        m.rowind.push_back(r);
+        m.values.push_back(a(r, c));
+      }
+    m.colptr.push_back(static_cast<int>(m.rowind.size()));
+  }
+  return m;
+}
+
+void build_dense(const IslandSystem& s, Eigen::MatrixXd& a) {
+  a.setZero(s.rows, s.rows);
+  // A = J M^-1 J^T body by body: every pair of row slots on the same body, lower triangle.
+  for (int b = 0; b < s.bodies; ++b)
+    for (int e = s.body_slot_offset[b]; e < s.body_slot_offset[b + 1]; ++e) {
+      const int k = s.body_slots[e] >> 1, sk = s.body_slots[e] & 1;
+      for (int f = e; f < s.body_slot_offset[b + 1]; ++f) {
+        const int j = s.body_slots[f] >> 1, sj = s.body_slots[f] & 1;
+        a(j, k) += s.jac[j][sj].dot(s.mjac[k][sk]);
+      }
+    }
+  a.diagonal() += s.sigma;
+  a.triangularView<Eigen::StrictlyUpper>() = a.transpose();
+}
+
+void build_lower_csc(const IslandSystem& s, LowerCsc& a) {
+  a.n = s.rows;
+  a.colptr.assign(1, 0);
+  a.rowind.clear();
+  a.values.clear();
+  std::vector<int> where(s.rows, -1);  // entry of row j in the current column, -1 if none yet
+  std::vector<std::pair<int, double>> column;
+  for (int k = 0; k < s.rows; ++k) {
+    // Rows j >= k sharing a body with row k; two shared bodies add into one entry.
+    column.clear();
+    for (int sk = 0; sk < 2; ++sk) {
+      const int b = s.body[k][sk];
+      if (b < 0) continue;
+      for (int e = s.body_slot_offset[b]; e < s.body_slot_offset[b + 1]; ++e) {
+        const int j = s.body_slots[e] >> 1, sj = s.body_slots[e] & 1;
+        if (j < k) continue;
+        const double v = s.jac[j][sj].dot(s.mjac[k][sk]);
+        if (where[j] < 0) {
+          where[j] = static_cast<int>(column.size());
+          column.emplace_back(j, v);
+        } else {
+          column[where[j]].second += v;
+        }
+      }
+    }
+    std::sort(column.begin(), column.end());
+    for (const auto& [j, v] : column) {
+      where[j] = -1;
+      a.rowind.push_back(j);
+      a.values.push_back(j == k ? v + s.sigma[k] : v);
+    }
+    a.colptr.push_back(static_cast<int>(a.rowind.size()));
+  }
+}
+
+void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du) {
+  du.setZero(6 * s.bodies);
+  for (int r = 0; r < s.rows; ++r)
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = s.body[r][slot];
+      if (b >= 0) du.segment<6>(6 * b) += s.mjac[r][slot] * x[r];
+    }
+}
+
+void apply_a(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, Eigen::VectorXd& y) {
+  apply_mjt(s, x, du);
+  y.resize(s.rows);
+  for (int r = 0; r < s.rows; ++r) y[r] = s.sigma[r] * x[r] + row_velocity(s, r, du);
+}
+
+}  // namespace rbpart

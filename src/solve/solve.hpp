@@ -1,0 +1,33 @@
+#pragma once
+// Solve stage: the BLCP of every island (DESIGN.md §3), by the monolithic direct solver or PGS.
+// On return rows.lambda holds the impulses and rows.state the index sets (next step's warm start).
+#include <rbpart/params.hpp>
+
+#include "assembly/rows.hpp"
+#include "graph/islands.hpp"
+#include "scene/bodies.hpp"
+
+namespace rbpart {
+
+struct SolveReport {
+  int iterations = 0;        // block-pivoting iterations (direct) or sweeps (PGS), summed over islands
+  int friction_passes = 0;   // outer passes for the friction bounds, max over islands
+  int factorizations = 0;    // matrix factorisations, summed over islands
+  int murty_islands = 0;     // islands where Murty's single-swap safeguard was needed
+  int failures = 0;          // islands whose BLCP did not converge within the caps
+  double residual = 0;       // max scaled natural-map residual over all rows (DESIGN.md §3)
+};
+
+// Monolithic direct solver: block principal pivoting per island, dense Cholesky for small islands,
+// CHOLMOD for large ones; islands in parallel.
+SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
+
+// Projected Gauss-Seidel on the same rows (the iterative baseline).
+SolveReport solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
+
+// Scaled natural-map residual (solve/residual.hpp): max over rows of
+// |lambda_j - clamp(lambda_j - w_j / A_jj, lo_j, hi_j)| * A_jj / s, w = A lambda + q, with friction
+// bounds from the current normal impulses and s = max(max |q|, 1e-12) per island (dimensionless).
+double natural_map_residual(const Rows& rows, const Bodies& bodies, const Islands& islands);
+
+}  // namespace rbpart

@@ -1,0 +1,208 @@
+// The step function: collide -> assemble -> graph -> (partition -> refine) -> solve -> integrate,
+// one call per stage, each timed into the profile field of the same name (DESIGN.md §1).
+#include <rbpart/world.hpp>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "assembly/assemble.hpp"
+#include "collision/collide.hpp"
+#include "core/timer.hpp"
+#include "graph/islands.hpp"
+#include "integrate/integrate.hpp"
+#include "integrate/joint_projection.hpp"
+#include "scene/bodies.hpp"
+#include "scene/mass_properties.hpp"
+#include "solve/solve.hpp"
+
+namespace rbpart {
+
+struct World::Impl {
+  SceneDef scene;
+  StepParams step_params;
+  SolverParams solver_params;
+  std::unique_ptr<tbb::global_control> thread_limit;  // only when a thread count is asked for
+  Bodies bodies;
+  std::vector<JointFrame> joints;
+  Collider collider;
+  // Per-step scratch, reused across steps.
+  std::vector<Vec3> frame_position, sliding_v, sliding_w;
+  std::vector<Contact> contacts;
+  Rows rows;
+  WarmStart warm;
+  JointProjection joint_projection;
+  Islands islands;
+  StepStats stats;
+  int steps = 0;
+
+  Impl(SceneDef s, StepParams sp, SolverParams so)
+      : scene(std::move(s)), step_params(sp), solver_params(so), collider(scene, sp.contact_margin) {
+    if (solver_params.threads > 0)
+      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                           static_cast<std::size_t>(solver_params.threads));
+    init_bodies();
+    joints = make_joint_frames(scene, bodies);
+  }
+
+  void init_bodies() {
+    const std::size_t n = scene.bodies.size();
+    Bodies& b = bodies;
+    b.is_static.resize(n);
+    b.mass.resize(n);
+    b.inv_mass.resize(n);
+    b.inertia_body.resize(n);
+    b.inv_inertia_body.resize(n);
+    b.com_local.resize(n);
+    b.friction.resize(n);
+    b.x.resize(n);
+    b.q.resize(n);
+    b.v.resize(n);
+    b.w.resize(n);
+    b.inv_inertia.resize(n);
+    b.geometric_stiffness.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const BodyDef& d = scene.bodies[i];
+      const MassProperties mp = mass_properties(d);
+      b.is_static[i] = d.is_static;
+      b.com_local[i] = mp.com;
+      b.q[i] = d.orientation.normalized();
+      b.x[i] = d.position + b.q[i] * mp.com;
+      b.friction[i] = d.friction >= 0 ? d.friction : scene.friction;
+      if (d.is_static) {
+        b.mass[i] = b.inv_mass[i] = 0;
+        b.inertia_body[i] = b.inv_inertia_body[i] = Mat3::Zero();
+        b.v[i] = b.w[i] = Vec3::Zero();
+      } else {
+        b.mass[i] = mp.mass;
+        b.inv_mass[i] = 1.0 / mp.mass;
+        b.inertia_body[i] = mp.inertia;
+        b.inv_inertia_body[i] = mp.inertia.inverse();
+        b.v[i] = d.velocity;
+        b.w[i] = d.angular_velocity;
+      }
+    }
+    update_world_inertia(b);
+  }
+
+  void collide() {
+    frame_position.resize(bodies.size());
+    for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
+    collider.collide(frame_position, bodies.q, contacts);
+  }
+
+  void assemble() {
+    update_world_inertia(bodies);
+    sliding_v = bodies.v;
+    sliding_w = bodies.w;
+    apply_external_forces(bodies, scene.gravity, scene.dt);
+    assemble_rows(contacts, joints, bodies, sliding_v, sliding_w, step_params, scene.dt, warm, rows);
+  }
+
+  void graph() { build_islands(rows, bodies.size(), islands); }
+
+  SolveReport solve() {
+    return solver_params.kind == SolverKind::Pgs ? solve_pgs(rows, bodies, islands, solver_params)
+                                                 : solve_direct(rows, bodies, islands, solver_params);
+  }
+
+  void integrate() {
+    apply_impulses(rows, bodies);
+    integrate_positions(bodies, scene.dt);
+    if (!joints.empty()) {
+      update_world_inertia(bodies);
+      joint_projection.project(joints, bodies, step_params.sigma_floor, step_params.joint_tolerance,
+                               step_params.joint_projection_iterations);
+    }
+    update_geometric_stiffness(rows, bodies, scene.dt);
+    warm.store(rows);
+  }
+
+  double kinetic_energy() const {
+    double e = 0;
+    for (int i = 0; i < bodies.size(); ++i) {
+      if (bodies.is_static[i]) continue;
+      const Mat3 R = bodies.q[i].toRotationMatrix();
+      const Vec3 wb = R.transpose() * bodies.w[i];
+      e += 0.5 * bodies.mass[i] * bodies.v[i].squaredNorm() + 0.5 * wb.dot(bodies.inertia_body[i] * wb);
+    }
+    return e;
+  }
+
+  const StepStats& step() {
+    StepStats& s = stats;
+    StepProfile& p = s.profile;
+    const Timer total;
+    { const Timer t; collide(); p.collide_ms = t.ms(); }
+    { const Timer t; assemble(); p.assemble_ms = t.ms(); }
+    { const Timer t; graph(); p.graph_ms = t.ms(); }
+    p.partition_ms = p.refine_ms = 0;  // monolithic solvers do not partition
+    SolveReport report;
+    { const Timer t; report = solve(); p.solve_ms = t.ms(); }
+    { const Timer t; integrate(); p.integrate_ms = t.ms(); }
+    p.total_ms = total.ms();
+
+    ++steps;
+    // A non-finite state is an internal failure: stop rather than write NaN anywhere.
+    for (int i = 0; i < bodies.size(); ++i)
+      if (!bodies.x[i].allFinite() || !bodies.v[i].allFinite() || !bodies.w[i].allFinite() ||
+          !bodies.q[i].coeffs().allFinite())
+        throw std::runtime_error("non-finite state of body " + std::to_string(i) + " at step " +
+                                 std::to_string(steps));
+    s.step = steps;
+    s.bodies = static_cast<int>(std::count(bodies.is_static.begin(), bodies.is_static.end(), 0));
+    s.contacts = static_cast<int>(contacts.size());
+    s.rows = static_cast<int>(rows.size());
+    s.islands = static_cast<int>(islands.count());
+    s.parts = s.islands;
+    s.interface_rows = s.interface_bodies = s.edge_cut = 0;
+    s.solver_iterations = report.iterations;
+    s.friction_passes = report.friction_passes;
+    s.factorizations = report.factorizations;
+    s.fallbacks = report.failures;
+    s.residual = report.residual;
+    s.max_penetration = 0;
+    for (const Contact& c : contacts) s.max_penetration = std::max(s.max_penetration, -c.distance);
+    s.kinetic_energy = kinetic_energy();
+    return s;
+  }
+};
+
+World::World(SceneDef scene, StepParams step_params, SolverParams solver_params)
+    : impl_(std::make_unique<Impl>(std::move(scene), step_params, solver_params)) {}
+World::~World() = default;
+
+const StepStats& World::step() { return impl_->step(); }
+double World::time() const { return impl_->steps * impl_->scene.dt; }
+int World::step_count() const { return impl_->steps; }
+const SceneDef& World::scene() const { return impl_->scene; }
+const StepParams& World::step_params() const { return impl_->step_params; }
+const SolverParams& World::solver_params() const { return impl_->solver_params; }
+const Bodies& World::bodies() const { return impl_->bodies; }
+
+std::uint64_t World::state_hash() const {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const double* p, int n) {
+    for (int i = 0; i < n; ++i) {
+      std::uint64_t bits;
+      std::memcpy(&bits, p + i, sizeof bits);
+      for (int byte = 0; byte < 8; ++byte) {
+        h ^= (bits >> (8 * byte)) & 0xff;
+        h *= 1099511628211ull;
+      }
+    }
+  };
+  const Bodies& b = impl_->bodies;
+  for (int i = 0; i < b.size(); ++i) {
+    mix(b.x[i].data(), 3);
+    mix(b.q[i].coeffs().data(), 4);
+    mix(b.v[i].data(), 3);
+    mix(b.w[i].data(), 3);
+  }
+  return h;
+}
+
+}  // namespace rbpart

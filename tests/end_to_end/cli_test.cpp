@@ -1,0 +1,159 @@
+// The rbpart CLI as a user runs it: exit statuses, one-line errors, no half-written outputs, and
+// export -> load -> simulate reproducing a built-in run exactly.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+// Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
+Result run(const std::string& args) {
+  static int counter = 0;
+  const fs::path dir = fs::temp_directory_path() / ("rbpart_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string out = (dir / ("out" + std::to_string(counter))).string();
+  const std::string err = (dir / ("err" + std::to_string(counter++))).string();
+  const int raw = std::system((std::string(RBPART_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rbpart_cli_case_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  // A bad scene file must give exit 2, one line naming `expect`, and leave no outputs behind.
+  void expect_rejected(const std::string& text, const std::string& expect) {
+    const std::string scene = write("bad.json", text);
+    const Result r = run("simulate --scene " + scene + " --steps 2 --stats " + path("s.csv") + " --state " +
+                         path("s.json"));
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(path("s.csv")));
+    EXPECT_FALSE(fs::exists(path("s.json")));
+  }
+  fs::path dir_;
+};
+
+const char* kGround = R"({"name": "g", "static": true, "shape": {"type": "box", "half_extents": [5, 5, 0.5]},
+                          "position": [0, 0, -0.5]})";
+
+std::string scene_with(const std::string& body, const std::string& joints = "[]") {
+  return std::string(R"({"name": "t", "bodies": [)") + kGround + ", " + body + R"(], "joints": )" + joints + "}";
+}
+
+TEST_F(Cli, MalformedJson) { expect_rejected("{\"name\": \"t\", \"bodies\": [", "bad.json"); }
+
+TEST_F(Cli, UnknownShape) {
+  expect_rejected(scene_with(R"({"shape": {"type": "torus", "radius": 1}, "mass": 1})"), "bodies[1].shape");
+}
+
+TEST_F(Cli, NonPositiveMass) {
+  expect_rejected(scene_with(R"({"shape": {"type": "sphere", "radius": 1}, "mass": -1})"), "bodies[1].mass");
+}
+
+TEST_F(Cli, NonPositiveRadius) {
+  expect_rejected(scene_with(R"({"shape": {"type": "sphere", "radius": 0}, "mass": 1})"), "bodies[1].shape.radius");
+}
+
+TEST_F(Cli, NotANumber) {
+  expect_rejected(scene_with(R"({"shape": {"type": "sphere", "radius": 1}, "mass": 1, "position": [0, 0, 1e999]})"),
+                  "bodies[1].position");
+}
+
+TEST_F(Cli, JointNamingMissingBody) {
+  expect_rejected(scene_with(R"({"shape": {"type": "sphere", "radius": 1}, "mass": 1})",
+                             R"([{"type": "ball", "bodies": [1, 7], "anchor": [0, 0, 1]}])"),
+                  "joints[0].bodies");
+}
+
+TEST_F(Cli, DegenerateHull) {
+  expect_rejected(scene_with(R"({"shape": {"type": "convex", "vertices": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]},
+                                 "mass": 1})"),
+                  "bodies[1]: body 'body1': convex vertices are coplanar");
+}
+
+TEST_F(Cli, UnknownOptionAndBadValues) {
+  for (const std::string args : {"simulate --scene box_stack --bogus", "simulate --scene box_stack --steps -3",
+                                 "simulate --scene box_stack --solver magic", "simulate --scene no_such_scene",
+                                 "simulate --scene box_stack --set boxes=ten", "simulate --scene box_stack --set nope=1"}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+  }
+}
+
+TEST_F(Cli, UnwritableOutputLeavesNothing) {
+  const Result r = run("simulate --scene box_stack --steps 2 --stats /nonexistent_dir/s.csv");
+  EXPECT_EQ(r.status, 2) << r.err;
+}
+
+TEST_F(Cli, ExportedSceneReproducesBuiltinRun) {
+  const Result exported = run("scenes --export rock_pile --set rocks=12 --set seed=3");
+  ASSERT_EQ(exported.status, 0) << exported.err;
+  const std::string file = write("rocks.json", exported.out);
+  const Result a = run("simulate --scene rock_pile --set rocks=12 --set seed=3 --steps 60 --state " + path("a.json"));
+  const Result b = run("simulate --scene " + file + " --steps 60 --state " + path("b.json"));
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(slurp(path("a.json")), slurp(path("b.json")));
+  EXPECT_NE(a.out.find("state hash"), std::string::npos);
+}
+
+TEST_F(Cli, StatsHaveEveryColumnAndOneLinePerStep) {
+  const Result r = run("simulate --scene box_stack --steps 5 --stats " + path("s.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream f(path("s.csv"));
+  std::string line, header;
+  int data = 0;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty()) header = line;
+    else ++data;
+  }
+  EXPECT_EQ(data, 5);
+  for (const char* col : {"step", "bodies", "contacts", "rows", "parts", "interface_rows", "interface_bodies",
+                          "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "fallback",
+                          "blcp_residual", "max_penetration", "kinetic_energy"})
+    EXPECT_NE(header.find(col), std::string::npos) << col;
+}
+
+}  // namespace

@@ -1,0 +1,133 @@
+// Stats CSV: parameter comments, the column header, one exact line per step, written atomically.
+#include "io/stats_csv.hpp"
+
+#include "core/error.hpp"
+#include "io/temp_dir.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include <cstdlib>
+#include <sstream>
+
+namespace rbpart {
+namespace {
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  return parts;
+}
+
+// Every field distinct, so a value in the wrong column is caught.
+StepStats numbered_stats() {
+  StepStats s;
+  s.step = 1;
+  s.bodies = 2;
+  s.contacts = 3;
+  s.rows = 4;
+  s.islands = 5;
+  s.parts = 6;
+  s.interface_rows = 7;
+  s.interface_bodies = 8;
+  s.edge_cut = 9;
+  s.profile = {10.5, 11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17.5};
+  s.solver_iterations = 18;
+  s.friction_passes = 19;
+  s.factorizations = 20;
+  s.fallbacks = 21;
+  s.residual = 1.0 / 3.0 * 1e-12;
+  s.max_penetration = 0.1 + 0.2;
+  s.kinetic_energy = 2.0 / 7.0 * 1e3;
+  return s;
+}
+
+TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
+  test::TempDir dir;
+  const std::string path = dir.file("stats.csv");
+  StatsCsvWriter writer(path, {{"erp", "0.2"}, {"scene", "two\nlines"}});
+  StepStats first = numbered_stats();
+  writer.write(first);
+  StepStats second;
+  second.step = 2;
+  second.profile.solve_ms = 1.23456789;
+  second.max_penetration = -0.0;
+  writer.write(second);
+  // Nothing is visible before finish().
+  EXPECT_EQ(dir.entries().size(), 1u);
+  EXPECT_NE(dir.entries()[0], "stats.csv");
+  writer.finish();
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"stats.csv"});
+
+  const std::vector<std::string> lines = split(test::read_text(path), '\n');
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[0], "# erp=0.2");
+  EXPECT_EQ(lines[1], "# scene=two lines");  // a control character cannot break the comment
+  EXPECT_EQ(lines[2],
+            "step,bodies,contacts,rows,islands,parts,interface_rows,interface_bodies,edge_cut,collide_ms,"
+            "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,total_ms,solver_iterations,"
+            "friction_passes,factorizations,fallback,blcp_residual,max_penetration,kinetic_energy");
+  EXPECT_EQ(split(lines[2], ',').size(), StatsCsvWriter::kColumns.size());
+
+  // Row 1: columns 1..21 hold their own number (the times n + 0.5), the last three are exact.
+  const std::vector<std::string> row = split(lines[3], ',');
+  ASSERT_EQ(row.size(), StatsCsvWriter::kColumns.size());
+  for (int c = 0; c < 21; ++c) {
+    const double expected = (c >= 9 && c <= 16) ? c + 1.5 : c + 1;
+    EXPECT_EQ(std::strtod(row[c].c_str(), nullptr), expected) << StatsCsvWriter::kColumns[c];
+  }
+  EXPECT_EQ(std::strtod(row[21].c_str(), nullptr), first.residual);
+  EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.max_penetration);
+  EXPECT_EQ(std::strtod(row[23].c_str(), nullptr), first.kinetic_energy);
+
+  // Row 2: times to six significant digits; the sign of a zero is kept.
+  const std::vector<std::string> row2 = split(lines[4], ',');
+  ASSERT_EQ(row2.size(), StatsCsvWriter::kColumns.size());
+  EXPECT_EQ(row2[0], "2");
+  EXPECT_EQ(row2[14], "1.23457");
+  EXPECT_EQ(row2[22], "-0");
+}
+
+TEST(StatsCsv, AbandonedWriterLeavesNothing) {
+  test::TempDir dir;
+  {
+    StatsCsvWriter writer(dir.file("stats.csv"), {});
+    writer.write(numbered_stats());
+  }
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(StatsCsv, UnwritablePathIsAnInputError) {
+  test::TempDir dir;
+  EXPECT_THROW(StatsCsvWriter(dir.file("no/such/dir/stats.csv"), {}), InputError);
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+// Every parameter is reported under its name, and a changed value reads back exactly.
+TEST(RunParameters, EveryParameterByNameAndExact) {
+  StepParams step;
+  SolverParams solver;
+  step.erp = 1.0 / 3.0;
+  step.slop = 0.1 + 0.2;
+  step.joint_projection_iterations = 7;
+  solver.kind = SolverKind::Pgs;
+  solver.pgs_iterations = 12345;
+  std::map<std::string, std::string> by_name;
+  for (const auto& [name, value] : run_parameters(step, solver)) by_name[name] = value;
+  for (const char* name : {"erp", "slop", "sigma_floor", "sliding_velocity_eps", "contact_margin",
+                           "joint_projection_iterations", "joint_tolerance", "solver", "dense_max_rows",
+                           "max_pivot_iterations", "murty_after", "friction_passes", "friction_tolerance",
+                           "pgs_iterations", "pgs_tolerance", "threads"})
+    EXPECT_EQ(by_name.count(name), 1u) << name;
+  EXPECT_EQ(std::strtod(by_name["erp"].c_str(), nullptr), 1.0 / 3.0);
+  EXPECT_EQ(std::strtod(by_name["slop"].c_str(), nullptr), 0.1 + 0.2);
+  EXPECT_EQ(by_name["joint_projection_iterations"], "7");
+  EXPECT_EQ(by_name["solver"], "pgs");
+  EXPECT_EQ(by_name["pgs_iterations"], "12345");
+}
+
+}  // namespace
+}  // namespace rbpart

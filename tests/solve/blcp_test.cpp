@@ -1,0 +1,437 @@
+// The fixed-bounds BLCP core and its backends (DESIGN.md §3), against the BLCP conditions, against
+// each other, and against an exhaustive enumeration of index sets.
+#include "solve/blcp.hpp"
+#include "solve/dense_matrix.hpp"
+#include "solve/residual.hpp"
+#include "solve/sparse_matrix.hpp"
+
+#include "tests/solve/random_blcp.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <limits>
+
+namespace rbpart {
+namespace {
+
+using testing::DenseBlcp;
+using testing::kInf;
+using testing::RandomIsland;
+
+struct Solution {
+  Eigen::VectorXd lambda;
+  std::vector<RowState> state;
+  BlcpResult result;
+};
+
+std::vector<RowState> random_states(std::mt19937& rng, int n) {
+  std::vector<RowState> state(n);
+  for (auto& s : state) s = static_cast<RowState>(std::uniform_int_distribution<int>(0, 2)(rng));
+  return state;
+}
+
+Solution run(BlcpMatrix& a, const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+             std::vector<RowState> state, const BlcpSettings& settings = {}) {
+  Solution s;
+  s.lambda = Eigen::VectorXd::Zero(q.size());
+  s.state = std::move(state);
+  BlcpWorkspace ws;
+  s.result = solve_blcp(a, q, lo, hi, s.lambda, s.state, settings, ws);
+  return s;
+}
+
+// The residual cannot be computed finer than the round-off of w = A lambda + q: eps times a row's
+// terms, each up to max_j A_jj |lambda_j| (large when redundant rows fight over an inconsistent q,
+// lambda ~ q / sigma). The bound on the scaled residual is 1e-10 or that floor, whichever is larger.
+double residual_bound(const Eigen::VectorXd& diag, const Eigen::VectorXd& q, const Eigen::VectorXd& lambda) {
+  const double scale = std::max(q.cwiseAbs().maxCoeff(), 1e-12);
+  const double terms = lambda.cwiseAbs().cwiseProduct(diag).maxCoeff();
+  return std::max(1e-10, 256 * std::numeric_limits<double>::epsilon() * terms / scale);
+}
+
+double relative_difference(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  return (x - y).cwiseAbs().maxCoeff() / std::max(1.0, y.cwiseAbs().maxCoeff());
+}
+
+// The sets must match lambda: clamped rows sit on their (finite) bound, fixed rows are clamped.
+void expect_consistent_sets(const Solution& s, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  for (Eigen::Index j = 0; j < lo.size(); ++j) {
+    if (lo[j] == hi[j]) EXPECT_NE(s.state[j], RowState::Free);
+    if (s.state[j] == RowState::Lower) EXPECT_EQ(s.lambda[j], lo[j]);
+    if (s.state[j] == RowState::Upper) EXPECT_EQ(s.lambda[j], hi[j]);
+    EXPECT_TRUE(std::isfinite(s.lambda[j]));
+  }
+}
+
+TEST(Blcp, RandomDenseProblemsDenseAndCholmodAgree) {
+  std::mt19937 rng(12345);
+  int problems = 0;
+  for (int n = 1; n <= 60; ++n)
+    for (int k = 0; k < 40; ++k, ++problems) {
+      const DenseBlcp p = testing::random_dense_blcp(rng, n);
+      const std::vector<RowState> warm = random_states(rng, n);
+      DenseBlcpMatrix dense;
+      dense.assign(p.a);
+      SparseBlcpMatrix sparse;
+      sparse.assign(LowerCsc::from_dense(p.a));
+      const Solution d = run(dense, p.q, p.lo, p.hi, warm);
+      const Solution s = run(sparse, p.q, p.lo, p.hi, warm);
+      ASSERT_TRUE(d.result.converged) << "n=" << n << " k=" << k;
+      ASSERT_TRUE(s.result.converged) << "n=" << n << " k=" << k;
+      EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, d.lambda), 1e-10) << "n=" << n << " k=" << k;
+      EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, s.lambda), 1e-10) << "n=" << n << " k=" << k;
+      EXPECT_LE(relative_difference(s.lambda, d.lambda), 1e-9) << "n=" << n << " k=" << k;
+      expect_consistent_sets(d, p.lo, p.hi);
+      expect_consistent_sets(s, p.lo, p.hi);
+    }
+  EXPECT_EQ(problems, 2400);
+}
+
+// Contact-like islands (redundant, tiny sigma): the three backends give the same exact answer.
+TEST(Blcp, RandomContactIslandsAllBackendsAgree) {
+  std::mt19937 rng(777);
+  RandomIsland island;
+  int floored = 0, total = 0;
+  for (int rows = 3; rows <= 60; rows += 3)
+    for (int k = 0; k < 30; ++k) {
+      testing::IslandOptions opt;
+      opt.rows = rows;
+      opt.bodies = 1 + static_cast<int>(rng() % std::max(1, rows / 6));
+      testing::random_contact_island(rng, opt, island);
+      const IslandSystem& s = island.system;
+      DenseBlcpMatrix dense;
+      build_dense(s, dense.matrix());
+      dense.finalize();
+      SparseBlcpMatrix sparse;
+      LowerCsc lower;
+      build_lower_csc(s, lower);
+      sparse.assign(std::move(lower));
+      BodySpaceBlcpMatrix body_space;
+      body_space.assign(s);
+
+      const std::vector<RowState> warm = random_states(rng, s.rows);
+      const Solution d = run(dense, s.q, s.lo, s.hi, warm);
+      const Solution c = run(sparse, s.q, s.lo, s.hi, warm);
+      const Solution b = run(body_space, s.q, s.lo, s.hi, warm);
+      const std::string where = "rows=" + std::to_string(s.rows) + " k=" + std::to_string(k);
+      ASSERT_TRUE(d.result.converged && c.result.converged && b.result.converged) << where;
+      const Eigen::MatrixXd& a = dense.matrix();
+      const double bound = residual_bound(s.diag, s.q, d.lambda);
+      floored += bound > 1e-10;
+      EXPECT_LE(natural_map_residual(a, s.q, s.lo, s.hi, d.lambda), bound) << where;
+      EXPECT_LE(natural_map_residual(a, s.q, s.lo, s.hi, c.lambda), bound) << where;
+      EXPECT_LE(natural_map_residual(a, s.q, s.lo, s.hi, b.lambda), bound) << where;
+      EXPECT_LE(relative_difference(c.lambda, d.lambda), 1e-9) << where;
+      EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << where;
+      ++total;
+    }
+  // The round-off floor is the exception (a few problems with strongly fighting rows), not the rule.
+  EXPECT_LE(floored, total / 10) << floored << " of " << total;
+}
+
+// The sparse matrices really are A: products and diagonals against the dense assembly.
+TEST(Blcp, SparseAssemblyMatchesDense) {
+  std::mt19937 rng(99);
+  RandomIsland island;
+  testing::IslandOptions opt;
+  opt.rows = 90;
+  testing::random_contact_island(rng, opt, island);
+  const IslandSystem& s = island.system;
+  DenseBlcpMatrix dense;
+  build_dense(s, dense.matrix());
+  dense.finalize();
+  // Independent reference: A = J M^-1 J^T + Sigma from the explicit dense J and M^-1.
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(s.rows, 6 * s.bodies), minv = Eigen::MatrixXd::Zero(6 * s.bodies, 6 * s.bodies);
+  for (int r = 0; r < s.rows; ++r)
+    for (int slot = 0; slot < 2; ++slot)
+      if (s.body[r][slot] >= 0) j.block<1, 6>(r, 6 * s.body[r][slot]) += s.jac[r][slot].transpose();
+  for (int b = 0; b < s.bodies; ++b) {
+    minv.block<3, 3>(6 * b, 6 * b) = s.inv_mass[b] * Mat3::Identity();
+    minv.block<3, 3>(6 * b + 3, 6 * b + 3) = s.inv_inertia[b];
+  }
+  Eigen::MatrixXd reference = j * minv * j.transpose();
+  reference.diagonal() += s.sigma;
+  EXPECT_LE((dense.matrix() - reference).cwiseAbs().maxCoeff(), 1e-12 * reference.cwiseAbs().maxCoeff());
+
+  SparseBlcpMatrix sparse;
+  LowerCsc lower;
+  build_lower_csc(s, lower);
+  sparse.assign(std::move(lower));
+  BodySpaceBlcpMatrix body_space;
+  body_space.assign(s);
+  const Eigen::VectorXd x = testing::uniform_matrix(rng, s.rows, 1);
+  Eigen::VectorXd y1, y2;
+  sparse.multiply(x, y1);
+  body_space.multiply(x, y2);
+  const Eigen::VectorXd y = reference * x;
+  EXPECT_LE((y1 - y).cwiseAbs().maxCoeff(), 1e-12 * y.cwiseAbs().maxCoeff());
+  EXPECT_LE((y2 - y).cwiseAbs().maxCoeff(), 1e-12 * y.cwiseAbs().maxCoeff());
+  EXPECT_LE((sparse.diagonal() - reference.diagonal()).cwiseAbs().maxCoeff(), 1e-12 * reference.diagonal().maxCoeff());
+
+  // Solves with A_FF for a random free set: A_FF x_F = b_F.
+  std::vector<char> free(s.rows);
+  for (auto& f : free) f = rng() % 3 != 0;
+  for (BlcpMatrix* m : std::initializer_list<BlcpMatrix*>{&dense, &sparse, &body_space}) {
+    ASSERT_EQ(m->prepare(free), 1);
+    EXPECT_EQ(m->prepare(free), 0);  // same set: the factor is reused
+    Eigen::VectorXd b = testing::uniform_matrix(rng, s.rows, 1), xs = b;
+    m->solve(xs);
+    for (int r = 0; r < s.rows; ++r)
+      if (!free[r]) {
+        EXPECT_EQ(xs[r], b[r]);  // untouched
+        xs[r] = 0;
+      }
+    // Backward error |A_FF x_F - b_F| / (|A_FF| |x_F| + |b_F|): round-off for Cholesky of A_FF; the
+    // body-space solve (refined by the BLCP core, not here) cancels digits, ~ eps / sigma_floor.
+    Eigen::MatrixXd aff = reference;
+    for (int r = 0; r < s.rows; ++r)
+      if (!free[r]) {
+        aff.row(r).setZero();
+        aff.col(r).setZero();
+      }
+    const Eigen::VectorXd ax = aff * xs;
+    double err = 0;
+    for (int r = 0; r < s.rows; ++r)
+      if (free[r]) err = std::max(err, std::abs(ax[r] - b[r]));
+    const double size = (aff.cwiseAbs() * xs.cwiseAbs()).maxCoeff() + b.cwiseAbs().maxCoeff();
+    EXPECT_LE(err / size, m == &body_space ? 1e-8 : 1e-14);
+  }
+}
+
+// Friction bounds +-mu lambda_n through the outer loop: at a settled fixed point the residual with
+// bounds from the final normal impulses is exact, and dense and body-space agree.
+TEST(Blcp, FrictionCoupledOuterLoop) {
+  std::mt19937 rng(4242);
+  RandomIsland island;
+  int settled = 0, total = 0;
+  for (int rows = 3; rows <= 60; rows += 3)
+    for (int k = 0; k < 15; ++k, ++total) {
+      testing::IslandOptions opt;
+      opt.rows = rows;
+      opt.joint_fraction = 0.05;
+      opt.box_fraction = 0;
+      testing::random_contact_island(rng, opt, island);
+      IslandSystem& s = island.system;
+      DenseBlcpMatrix dense;
+      build_dense(s, dense.matrix());
+      dense.finalize();
+      BodySpaceBlcpMatrix body_space;
+      body_space.assign(s);
+      Eigen::VectorXd lambda_d[2];
+      bool ok[2];
+      int index = 0;
+      for (BlcpMatrix* m : std::initializer_list<BlcpMatrix*>{&dense, &body_space}) {
+        Eigen::VectorXd lambda = Eigen::VectorXd::Zero(s.rows), previous, lo = s.lo, hi = s.hi;
+        std::vector<RowState> state(s.rows, RowState::Free);
+        BlcpWorkspace ws;
+        const FrictionPassResult fp = friction_passes(s.coupling(), lambda, state, lo, hi, 200, 1e-12, previous, [&] {
+          return solve_blcp(*m, s.q, lo, hi, lambda, state, BlcpSettings{}, ws).converged;
+        });
+        ASSERT_TRUE(fp.solved);
+        ok[index] = fp.settled;
+        if (fp.settled) {
+          set_friction_bounds(s.coupling(), lambda, lo, hi);
+          EXPECT_LE(natural_map_residual(dense.matrix(), s.q, lo, hi, lambda), residual_bound(s.diag, s.q, lambda))
+              << rows << " " << k;
+        }
+        lambda_d[index++] = lambda;
+      }
+      if (ok[0] && ok[1]) {
+        ++settled;
+        EXPECT_LE(relative_difference(lambda_d[1], lambda_d[0]), 1e-9) << rows << " " << k;
+      }
+    }
+  // The fixed-point iteration need not contract for every random coupling (strong lever arms,
+  // mu up to 0.8), but does for most.
+  EXPECT_GE(settled, total * 3 / 4) << settled << " of " << total;
+}
+
+// Independent reference: try all 3^n index sets, solve each with LU, keep the one that satisfies
+// the BLCP conditions. For SPD A the solution is unique.
+Eigen::VectorXd enumerate_solution(const DenseBlcp& p, int& found) {
+  const int n = static_cast<int>(p.q.size());
+  int sets = 1;
+  for (int j = 0; j < n; ++j) sets *= 3;
+  Eigen::VectorXd best;
+  found = 0;
+  for (int code = 0; code < sets; ++code) {
+    std::vector<int> free_rows;
+    Eigen::VectorXd lambda(n);
+    bool valid = true;
+    for (int j = 0, c = code; j < n; ++j, c /= 3) {
+      const int s = c % 3;
+      if (s == 0) free_rows.push_back(j);
+      else lambda[j] = s == 1 ? p.lo[j] : p.hi[j];
+      if (s != 0 && !std::isfinite(lambda[j])) valid = false;
+    }
+    if (!valid) continue;
+    const int nf = static_cast<int>(free_rows.size());
+    if (nf > 0) {
+      Eigen::MatrixXd aff(nf, nf);
+      Eigen::VectorXd rhs(nf);
+      for (int r = 0; r < nf; ++r) {
+        rhs[r] = -p.q[free_rows[r]];
+        for (int j = 0, c = code; j < n; ++j, c /= 3)
+          if (c % 3 != 0) rhs[r] -= p.a(free_rows[r], j) * lambda[j];
+        for (int c = 0; c < nf; ++c) aff(r, c) = p.a(free_rows[r], free_rows[c]);
+      }
+      const Eigen::VectorXd x = aff.partialPivLu().solve(rhs);
+      for (int r = 0; r < nf; ++r) lambda[free_rows[r]] = x[r];
+    }
+    const Eigen::VectorXd w = p.a * lambda + p.q;
+    const double tol = 1e-9 * std::max(1.0, p.q.cwiseAbs().maxCoeff());
+    bool ok = true;
+    for (int j = 0, c = code; j < n && ok; ++j, c /= 3) {
+      const int s = c % 3;
+      if (s == 0) ok = lambda[j] >= p.lo[j] - tol && lambda[j] <= p.hi[j] + tol && std::abs(w[j]) <= tol;
+      else if (p.lo[j] == p.hi[j]) ok = true;
+      else ok = s == 1 ? w[j] >= -tol : w[j] <= tol;
+    }
+    if (ok) {
+      ++found;
+      if (best.size() == 0) best = lambda;
+    }
+  }
+  return best;
+}
+
+TEST(Blcp, AgreesWithExhaustiveEnumeration) {
+  std::mt19937 rng(2024);
+  for (int n = 1; n <= 7; ++n)
+    for (int k = 0; k < 60; ++k) {
+      DenseBlcp p = testing::random_dense_blcp(rng, n);
+      p.a.diagonal().array() += 0.05;  // keep the LU reference well conditioned
+      int found = 0;
+      const Eigen::VectorXd reference = enumerate_solution(p, found);
+      ASSERT_GE(found, 1) << "n=" << n << " k=" << k;
+      DenseBlcpMatrix dense;
+      dense.assign(p.a);
+      SparseBlcpMatrix sparse;
+      sparse.assign(LowerCsc::from_dense(p.a));
+      for (BlcpMatrix* m : std::initializer_list<BlcpMatrix*>{&dense, &sparse}) {
+        const Solution s = run(*m, p.q, p.lo, p.hi, random_states(rng, n));
+        ASSERT_TRUE(s.result.converged);
+        EXPECT_LE(relative_difference(s.lambda, reference), 1e-9) << "n=" << n << " k=" << k;
+      }
+    }
+}
+
+TEST(Blcp, WarmStartFromTheSolutionSetsTakesOneIteration) {
+  std::mt19937 rng(5);
+  for (int k = 0; k < 200; ++k) {
+    const DenseBlcp p = testing::random_dense_blcp(rng, 5 + k % 40);
+    DenseBlcpMatrix a;
+    a.assign(p.a);
+    const Solution cold = run(a, p.q, p.lo, p.hi, std::vector<RowState>(p.q.size(), RowState::Free));
+    ASSERT_TRUE(cold.result.converged);
+    DenseBlcpMatrix fresh;
+    fresh.assign(p.a);
+    const Solution warm = run(fresh, p.q, p.lo, p.hi, cold.state);
+    ASSERT_TRUE(warm.result.converged);
+    EXPECT_EQ(warm.result.iterations, 1);
+    EXPECT_EQ(warm.result.factorizations, 1);
+    EXPECT_EQ(warm.state, cold.state);
+    EXPECT_LE(relative_difference(warm.lambda, cold.lambda), 1e-12);
+    // Solving again on the same matrix reuses the factor of the same free set.
+    const Solution again = run(fresh, p.q, p.lo, p.hi, cold.state);
+    EXPECT_EQ(again.result.factorizations, 0);
+  }
+}
+
+// murty_after = 0: every iteration that does not reach a new low of infeasible rows is a single
+// Murty swap. The answers must not change, and the path must actually be taken.
+TEST(Blcp, MurtyRuleConvergesToTheSameSolution) {
+  std::mt19937 rng(31337);
+  int murty = 0;
+  for (int k = 0; k < 300; ++k) {
+    const DenseBlcp p = testing::random_dense_blcp(rng, 10 + k % 50);
+    const std::vector<RowState> warm = random_states(rng, static_cast<int>(p.q.size()));
+    DenseBlcpMatrix a;
+    a.assign(p.a);
+    const Solution block = run(a, p.q, p.lo, p.hi, warm);
+    BlcpSettings settings;
+    settings.murty_after = 0;
+    settings.murty_max_infeasible = static_cast<int>(p.q.size());  // no interior-point restart
+    settings.max_iterations = 5000;
+    const Solution single = run(a, p.q, p.lo, p.hi, warm, settings);
+    ASSERT_TRUE(block.result.converged && single.result.converged);
+    murty += single.result.murty;
+    EXPECT_LE(relative_difference(single.lambda, block.lambda), 1e-9);
+    EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, single.lambda), 1e-10);
+  }
+  EXPECT_GT(murty, 30);
+}
+
+// Sliding piles with box friction: block pivoting stalls with many infeasible rows; the
+// interior-point restart must rescue it, and the answer must still be exact and match the dense one.
+TEST(Blcp, StalledPivotingIsRestartedFromInteriorPointSets) {
+  std::mt19937 rng(2718);
+  RandomIsland island;
+  int restarted = 0;
+  for (int k = 0; k < 6; ++k) {
+    testing::IslandOptions opt;
+    opt.rows = 300 + 60 * k;
+    opt.neighbour_radius = 1.2;
+    opt.q_consistent = 1.0;  // every body moving: most contacts slide
+    opt.box_fraction = 0;
+    testing::random_contact_island(rng, opt, island);
+    const IslandSystem& s = island.system;
+    DenseBlcpMatrix dense;
+    build_dense(s, dense.matrix());
+    dense.finalize();
+    BodySpaceBlcpMatrix body_space;
+    body_space.assign(s);
+    // Cold start: every bounded row at its lower bound.
+    std::vector<RowState> cold(s.rows);
+    for (int j = 0; j < s.rows; ++j) cold[j] = std::isfinite(s.lo[j]) ? RowState::Lower : RowState::Free;
+    const Solution d = run(dense, s.q, s.lo, s.hi, cold);
+    const Solution b = run(body_space, s.q, s.lo, s.hi, cold);
+    ASSERT_TRUE(d.result.converged && b.result.converged) << k;
+    restarted += d.result.restarted;
+    const double bound = residual_bound(s.diag, s.q, d.lambda);
+    EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, d.lambda), bound) << k;
+    EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, b.lambda), bound) << k;
+    EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << k;
+  }
+  EXPECT_GE(restarted, 3);
+}
+
+// The iteration cap: not converged, but the iterate is finite, admissible and consistent.
+TEST(Blcp, IterationCapLeavesAnAdmissibleIterate) {
+  std::mt19937 rng(8);
+  int capped = 0;
+  for (int k = 0; k < 100; ++k) {
+    const DenseBlcp p = testing::random_dense_blcp(rng, 40);
+    DenseBlcpMatrix a;
+    a.assign(p.a);
+    BlcpSettings settings;
+    settings.max_iterations = 1;
+    const Solution s = run(a, p.q, p.lo, p.hi, random_states(rng, 40), settings);
+    if (s.result.converged) continue;
+    ++capped;
+    for (int j = 0; j < 40; ++j) {
+      EXPECT_GE(s.lambda[j], p.lo[j]);
+      EXPECT_LE(s.lambda[j], p.hi[j]);
+    }
+    expect_consistent_sets(s, p.lo, p.hi);
+  }
+  EXPECT_GT(capped, 50);
+}
+
+// The residual measure itself: zero at the solution, the analytic value away from it.
+TEST(Blcp, NaturalMapResidualValues) {
+  Eigen::MatrixXd a(2, 2);
+  a << 2, 0, 0, 4;
+  const Eigen::VectorXd q = Eigen::Vector2d(-2, 4), lo = Eigen::Vector2d(0, 0), hi = Eigen::Vector2d(kInf, kInf);
+  // Solution: lambda = (1, 0), w = (0, 4).
+  EXPECT_EQ(natural_map_residual(a, q, lo, hi, Eigen::Vector2d(1, 0)), 0.0);
+  // lambda = (0.5, 0): w_0 = -1, clamp(0.5 + 0.5) = 1, |r_0| A_00 / s = 0.5 * 2 / 4.
+  EXPECT_DOUBLE_EQ(natural_map_residual(a, q, lo, hi, Eigen::Vector2d(0.5, 0)), 0.25);
+  // lambda = (1, 1): w_1 = 8, clamp(1 - 2) = 0, |r_1| A_11 / s = 1 * 4 / 4.
+  EXPECT_DOUBLE_EQ(natural_map_residual(a, q, lo, hi, Eigen::Vector2d(1, 1)), 1.0);
+}
+
+}  // namespace
+}  // namespace rbpart

@@ -1,0 +1,211 @@
+// solve_direct, solve_pgs and natural_map_residual on small scenes built by hand: boxes resting
+// and sliding on the ground (DESIGN.md §2 rows), with analytic answers where symmetry gives them.
+#include "solve/solve.hpp"
+
+#include "graph/islands.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbpart {
+namespace {
+
+constexpr double kGravity = 9.81, kStep = 1.0 / 60.0;
+
+struct Scene {
+  Rows rows;
+  Bodies bodies;
+  Islands islands;
+  std::vector<Vec6> free_velocity;  // u* per body
+};
+
+// A cube of half extent a and mass m at body index `body`, resting on static ground (z = 0) with
+// its four bottom corners as contacts (normal + two friction rows each), moving with velocity
+// (vx, 0, -g h) before contact (gravity applied: u* = u + h g).
+void add_box(Scene& s, double m, double a, double vx, double mu) {
+  const int body = static_cast<int>(s.bodies.inv_mass.size());
+  const double inertia = m / 3 * (2 * a * a);
+  s.bodies.inv_mass.push_back(1 / m);
+  s.bodies.inv_inertia.push_back(Mat3::Identity() / inertia);
+  s.bodies.x.push_back(Vec3(3.0 * body, 0, a));
+  Vec6 u;
+  u << vx, 0, -kGravity * kStep, 0, 0, 0;
+  s.free_velocity.push_back(u);
+  for (double cx : {-a, a})
+    for (double cy : {-a, a}) {
+      const Vec3 r(cx, cy, -a);  // corner relative to the centre of mass
+      const auto row = [&](RowKind kind, const Vec3& dir) {
+        const int j = s.rows.add(kind, body, -1, s.rows.size());
+        s.rows.jac[j][0] << dir, r.cross(dir);
+        const double jmj = dir.squaredNorm() / m + r.cross(dir).squaredNorm() / inertia;
+        s.rows.sigma[j] = 1e-6 * jmj;
+        s.rows.q[j] = s.rows.jac[j][0].dot(u);
+        return j;
+      };
+      const int n = row(RowKind::Normal, Vec3::UnitZ());
+      for (const Vec3& t : {Vec3(Vec3::UnitX()), Vec3(Vec3::UnitY())}) {
+        const int f = row(RowKind::Friction, t);
+        s.rows.normal_of[f] = n;
+        s.rows.mu[f] = mu;
+      }
+    }
+}
+
+void finish(Scene& s) { build_islands(s.rows, static_cast<int>(s.bodies.inv_mass.size()), s.islands); }
+
+SolverParams exact_params() {
+  SolverParams p;
+  p.friction_passes = 50;
+  p.friction_tolerance = 1e-13;
+  return p;
+}
+
+// Body velocity after the impulses, u* + M^-1 J^T lambda.
+Vec6 velocity_after(const Scene& s, int body) {
+  Vec6 u = s.free_velocity[body];
+  for (std::size_t j = 0; j < s.rows.size(); ++j)
+    if (s.rows.body[j][0] == body) {
+      const Vec6& jac = s.rows.jac[j][0];
+      u.head<3>() += s.bodies.inv_mass[body] * jac.head<3>() * s.rows.lambda[j];
+      u.tail<3>() += s.bodies.inv_inertia[body] * jac.tail<3>() * s.rows.lambda[j];
+    }
+  return u;
+}
+
+TEST(SolveDirect, RestingBoxHasTheSymmetricAnalyticImpulses) {
+  Scene s;
+  add_box(s, 2.0, 0.5, 0.0, 0.5);
+  finish(s);
+  const SolveReport report = solve_direct(s.rows, s.bodies, s.islands, exact_params());
+  EXPECT_EQ(report.failures, 0);
+  EXPECT_LE(report.residual, 1e-10);
+  // By symmetry each corner carries a quarter: -g h + 4 lambda / m + sigma lambda = 0, no friction.
+  const double sigma = s.rows.sigma[0];
+  const double expected = kGravity * kStep / (4 / 2.0 + sigma);
+  // Twelve rows on six velocities: A is conditioned ~ 1 / sigma_floor = 1e6, so impulses are exact
+  // to ~1e-10 relative.
+  for (std::size_t j = 0; j < s.rows.size(); ++j) {
+    if (s.rows.kind[j] == RowKind::Normal) {
+      EXPECT_NEAR(s.rows.lambda[j], expected, 1e-9 * expected);
+      EXPECT_EQ(s.rows.state[j], RowState::Free);
+    } else {
+      EXPECT_NEAR(s.rows.lambda[j], 0.0, 1e-9 * expected);
+    }
+  }
+  EXPECT_LE(velocity_after(s, 0).norm(), 1e-6 * kGravity * kStep);
+}
+
+TEST(SolveDirect, SlidingBoxFeelsCoulombFrictionOnEveryContact) {
+  Scene s;
+  const double m = 3.0, mu = 0.3;
+  add_box(s, m, 0.4, 2.0, mu);  // too fast to stop within one step: friction saturates
+  finish(s);
+  const SolveReport report = solve_direct(s.rows, s.bodies, s.islands, exact_params());
+  EXPECT_EQ(report.failures, 0);
+  EXPECT_LE(report.residual, 1e-10);
+  EXPECT_GE(report.friction_passes, 2);
+  double normal = 0, friction_x = 0;
+  for (std::size_t j = 0; j < s.rows.size(); ++j) {
+    if (s.rows.kind[j] == RowKind::Normal) {
+      normal += s.rows.lambda[j];
+      EXPECT_GT(s.rows.lambda[j], 0.0);
+    } else if (s.rows.jac[j][0][0] == 1.0) {  // along x: at the lower bound -mu lambda_n
+      const double bound = mu * s.rows.lambda[s.rows.normal_of[j]];
+      EXPECT_EQ(s.rows.state[j], RowState::Lower);
+      EXPECT_NEAR(s.rows.lambda[j], -bound, 1e-12 * bound);
+      friction_x += s.rows.lambda[j];
+    } else {
+      EXPECT_NEAR(s.rows.lambda[j], 0.0, 1e-9);
+    }
+  }
+  // No vertical motion after the step: the normals carry the weight's impulse (up to sigma).
+  EXPECT_NEAR(normal, m * kGravity * kStep, 1e-5 * m * kGravity * kStep);
+  EXPECT_NEAR(friction_x, -mu * normal, 1e-12 * normal);
+  EXPECT_NEAR(velocity_after(s, 0)[0], 2.0 + friction_x / m, 1e-12);
+}
+
+// Two independent islands solved together, by the dense and the sparse (body-space) paths, which
+// must agree; the report's residual is the one natural_map_residual measures.
+TEST(SolveDirect, TwoIslandsDenseAndSparsePathsAgree) {
+  Scene s;
+  add_box(s, 2.0, 0.5, 0.0, 0.5);
+  add_box(s, 5.0, 0.3, 1.0, 0.6);
+  finish(s);
+  ASSERT_EQ(s.islands.count(), 2u);
+  Rows sparse_rows = s.rows;
+  SolverParams params = exact_params();
+  const SolveReport dense = solve_direct(s.rows, s.bodies, s.islands, params);
+  params.dense_max_rows = 0;
+  const SolveReport sparse = solve_direct(sparse_rows, s.bodies, s.islands, params);
+  EXPECT_EQ(dense.failures + sparse.failures, 0);
+  EXPECT_LE(dense.residual, 1e-10);
+  EXPECT_LE(sparse.residual, 1e-10);
+  EXPECT_NEAR(natural_map_residual(s.rows, s.bodies, s.islands), dense.residual, 1e-14);
+  for (std::size_t j = 0; j < s.rows.size(); ++j) {
+    EXPECT_NEAR(sparse_rows.lambda[j], s.rows.lambda[j], 1e-9 * std::max(1.0, std::abs(s.rows.lambda[j])));
+    EXPECT_EQ(sparse_rows.state[j], s.rows.state[j]);
+  }
+  // Warm started from its own answer, the solve is one pivoting iteration per pass.
+  const SolveReport again = solve_direct(s.rows, s.bodies, s.islands, exact_params());
+  EXPECT_LE(again.iterations, 2 * again.friction_passes);
+  EXPECT_LE(again.residual, 1e-10);
+}
+
+TEST(NaturalMapResidual, DetectsAPerturbedSolution) {
+  Scene s;
+  add_box(s, 2.0, 0.5, 0.0, 0.5);
+  finish(s);
+  solve_direct(s.rows, s.bodies, s.islands, exact_params());
+  EXPECT_LE(natural_map_residual(s.rows, s.bodies, s.islands), 1e-10);
+  // Doubling one normal impulse: w_j = lambda_j A_jj (the others' share stays), so r_j A_jj / s is
+  // lambda_j A_jj / (g h) to first order.
+  s.rows.lambda[0] *= 2;
+  EXPECT_GT(natural_map_residual(s.rows, s.bodies, s.islands), 0.1);
+}
+
+TEST(SolvePgs, ApproachesTheDirectAnswerAsSweepsGrow) {
+  Scene s;
+  add_box(s, 2.0, 0.5, 0.0, 0.5);
+  add_box(s, 5.0, 0.3, 1.0, 0.6);
+  finish(s);
+  Rows direct_rows = s.rows;
+  solve_direct(direct_rows, s.bodies, s.islands, exact_params());
+  Scene direct = s;
+  direct.rows = direct_rows;
+
+  double previous_error = std::numeric_limits<double>::infinity(), previous_residual = previous_error;
+  for (int sweeps : {3, 30, 300, 3000}) {
+    Scene pgs = s;
+    SolverParams params;
+    params.kind = SolverKind::Pgs;
+    params.pgs_iterations = sweeps;
+    params.pgs_tolerance = 0;
+    const SolveReport report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
+    EXPECT_EQ(report.iterations, 2 * sweeps);  // two islands
+    double error = 0;
+    for (int b = 0; b < 2; ++b) error = std::max(error, (velocity_after(pgs, b) - velocity_after(direct, b)).norm());
+    EXPECT_LT(error, previous_error) << sweeps;
+    EXPECT_LT(report.residual, previous_residual) << sweeps;
+    EXPECT_NEAR(report.residual, natural_map_residual(pgs.rows, pgs.bodies, pgs.islands), 1e-12);
+    previous_error = error;
+    previous_residual = report.residual;
+    // The sets follow lambda: clamped rows sit on their bounds.
+    for (std::size_t j = 0; j < pgs.rows.size(); ++j) {
+      if (pgs.rows.state[j] == RowState::Lower) EXPECT_EQ(pgs.rows.lambda[j], pgs.rows.lo[j]);
+      if (pgs.rows.state[j] == RowState::Upper) EXPECT_EQ(pgs.rows.lambda[j], pgs.rows.hi[j]);
+    }
+  }
+  EXPECT_LT(previous_error, 1e-6);
+  // The tolerance stops the sweeps early once the impulses settle.
+  Scene pgs = s;
+  SolverParams params;
+  params.pgs_iterations = 100000;
+  params.pgs_tolerance = 1e-6;
+  const SolveReport report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
+  EXPECT_LT(report.iterations, 2 * 100000);
+  EXPECT_GT(report.iterations, 2);
+}
+
+}  // namespace
+}  // namespace rbpart

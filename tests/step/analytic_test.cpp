@@ -1,0 +1,120 @@
+// Whole-step tests against closed-form mechanics: friction on a slope, a pendulum's period,
+// resting stacks (also at 1000:1 mass ratio) and a heavy-ended chain's joints.
+#include <gtest/gtest.h>
+#include <rbpart/world.hpp>
+
+#include <cmath>
+
+#include "scene/bodies.hpp"
+#include "scenes/scenes.hpp"
+
+namespace rbpart {
+namespace {
+
+constexpr double kG = 9.81;
+
+SceneDef scene(const std::string& name, std::vector<std::pair<std::string, std::string>> sets) {
+  return make_builtin_scene(name, sets);
+}
+
+// Position of the block along the downhill direction of the slope scene.
+double downhill(const World& w, double theta) {
+  const Vec3 d(std::cos(theta), 0, -std::sin(theta));
+  return w.bodies().x[1].dot(d);
+}
+
+TEST(Slope, BlockBelowFrictionAngleStaysPut) {
+  // tan(20 deg) = 0.36 < mu = 0.5.
+  World w(scene("slope", {{"angle", "20"}, {"friction", "0.5"}}));
+  const Vec3 start = w.bodies().x[1];
+  for (int i = 0; i < 120; ++i) w.step();  // 2 s
+  EXPECT_LT((w.bodies().x[1] - start).norm(), 1e-3);
+}
+
+TEST(Slope, BlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
+  const double theta = 35 * M_PI / 180, mu = 0.3;
+  World w(scene("slope", {{"angle", "35"}, {"friction", "0.3"}}));
+  const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
+  for (int i = 0; i < 60; ++i) w.step();
+  const double s1 = downhill(w, theta);
+  const double t1 = w.time();
+  for (int i = 0; i < 60; ++i) w.step();
+  const double s2 = downhill(w, theta);
+  for (int i = 0; i < 60; ++i) w.step();
+  const double s3 = downhill(w, theta);
+  const double T = w.time() - t1;
+  // Second difference of equally spaced positions: a = (s3 - 2 s2 + s1) / (T/2)^2.
+  const double a = (s3 - 2 * s2 + s1) / std::pow(T / 2, 2);
+  EXPECT_NEAR(a, expected, 0.02 * expected);
+}
+
+TEST(Pendulum, SmallAnglePeriod) {
+  const double L = 1, r = 0.05, theta0 = 5 * M_PI / 180;
+  World w(scene("pendulum", {{"length", "1"}, {"angle", "5"}, {"radius", "0.05"}}));
+  // Physical pendulum (a sphere, not a point): T = 2 pi sqrt(I_pivot / (m g L)), with the first
+  // finite-amplitude correction (1 + theta0^2 / 16).
+  const double I_pivot = 0.4 * r * r + L * L;
+  const double expected = 2 * M_PI * std::sqrt(I_pivot / (kG * L)) * (1 + theta0 * theta0 / 16);
+  // Upward zero crossings of x (linearly interpolated) over several periods.
+  std::vector<double> crossings;
+  double prev = w.bodies().x[0].x(), prev_t = 0;
+  while (w.time() < 10) {
+    w.step();
+    const double x = w.bodies().x[0].x();
+    if (prev < 0 && x >= 0) crossings.push_back(prev_t + (w.time() - prev_t) * (-prev) / (x - prev));
+    prev = x;
+    prev_t = w.time();
+  }
+  ASSERT_GE(crossings.size(), 3u);
+  const double period = (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  EXPECT_NEAR(period, expected, 0.01 * expected);
+}
+
+// Runs a stack for 10 s; every box must stay within 2 mm of where it started and no contact may
+// sink deeper than the slop plus 1 mm.
+void expect_stack_rests(const SceneDef& def) {
+  World w(def);
+  const std::vector<Vec3> start = w.bodies().x;
+  double deepest = 0;
+  while (w.time() < 10 - 1e-9) deepest = std::max(deepest, w.step().max_penetration);
+  for (int i = 0; i < w.bodies().size(); ++i)
+    EXPECT_LT((w.bodies().x[i] - start[i]).norm(), 2e-3) << "box " << i;
+  EXPECT_LE(deepest, w.step_params().slop + 1e-3);
+}
+
+TEST(Stack, TenBoxesRest) { expect_stack_rests(scene("box_stack", {{"boxes", "10"}})); }
+
+TEST(Stack, AlternatingLightAndThousandTimesHeavierRests) {
+  expect_stack_rests(scene("box_stack", {{"boxes", "10"}, {"mass_even", "1"}, {"mass_odd", "1000"}}));
+}
+
+TEST(Chain, HeavyEndedChainJointsStayTogether) {
+  const SceneDef def = scene("hanging_chain", {{"links", "20"}, {"end_ratio", "100"}});
+  World w(def);
+  // Anchors in each link's centre-of-mass frame, from the initial configuration.
+  struct Anchor {
+    int a, b;
+    Vec3 la, lb;
+  };
+  std::vector<Anchor> anchors;
+  for (const JointDef& j : def.joints) {
+    const Bodies& B = w.bodies();
+    Anchor an{j.body_a, j.body_b, B.q[j.body_a].conjugate() * (j.anchor - B.x[j.body_a]), j.anchor};
+    if (j.body_b >= 0) an.lb = B.q[j.body_b].conjugate() * (j.anchor - B.x[j.body_b]);
+    anchors.push_back(an);
+  }
+  double worst = 0;
+  for (int i = 0; i < 600; ++i) {
+    w.step();
+    const Bodies& B = w.bodies();
+    for (const Anchor& an : anchors) {
+      const Vec3 pa = B.x[an.a] + B.q[an.a] * an.la;
+      const Vec3 pb = an.b >= 0 ? Vec3(B.x[an.b] + B.q[an.b] * an.lb) : an.lb;
+      worst = std::max(worst, (pa - pb).norm());
+    }
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+}  // namespace
+}  // namespace rbpart
