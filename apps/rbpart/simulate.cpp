@@ -107,6 +107,14 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--friction-passes", o->solver_params.friction_passes, "Outer passes for friction bounds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--friction-tolerance", o->solver_params.friction_tolerance,
+                  "Relative change of normal impulses that ends the friction passes")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--sigma-floor", o->step_params.sigma_floor,
+                  "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--erp", o->step_params.erp, "Error reduction per step (Baumgarte), in (0, 1]")
       ->check(CLI::Range(1e-9, 1.0))
       ->capture_default_str();

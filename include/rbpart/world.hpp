@@ -10,6 +10,8 @@
 namespace rbpart {
 
 struct Bodies;
+struct Rows;
+struct Islands;
 
 // Wall time of each stage of one step, named after the stage (ms).
 struct StepProfile {
@@ -54,6 +56,10 @@ class World {
   const StepParams& step_params() const;
   const SolverParams& solver_params() const;
   const Bodies& bodies() const;
+  // The last step's constraint rows (with their impulses) and islands: what the constraint graph,
+  // the partitioners and the viewer are built from.
+  const Rows& rows() const;
+  const Islands& islands() const;
   // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
   std::uint64_t state_hash() const;
 

@@ -165,9 +165,9 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
   const std::vector<int>& normal_of = *f.normal_of;
   const bool has_friction = std::any_of(normal_of.begin(), normal_of.end(), [](int n) { return n >= 0; });
   FrictionPassResult result;
+  previous = lambda;  // the normal impulses the bounds are taken from
   for (int pass = 0; pass < std::max(1, max_passes); ++pass) {
-    update_friction_bounds(f, lambda, lo, hi, state);
-    previous = lambda;
+    update_friction_bounds(f, previous, lo, hi, state);
     ++result.passes;
     if (!solve_fixed()) {
       result.solved = false;
@@ -184,6 +184,13 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
       result.settled = true;
       return result;
     }
+    // Next bounds: the new normal impulses, averaged with the previous ones after the first passes.
+    // Redundant contacts (a face on a face) share their load through the small regularisation, and
+    // per-point bounds fed straight back can then oscillate between two load shares; the average
+    // has the same fixed point and damps the oscillation.
+    const double keep = pass < 2 ? 0.0 : 0.5;
+    for (std::size_t j = 0; j < normal_of.size(); ++j)
+      if (normal_of[j] >= 0) previous[normal_of[j]] = keep * previous[normal_of[j]] + (1 - keep) * lambda[normal_of[j]];
   }
   return result;
 }

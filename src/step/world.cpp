@@ -182,6 +182,8 @@ const SceneDef& World::scene() const { return impl_->scene; }
 const StepParams& World::step_params() const { return impl_->step_params; }
 const SolverParams& World::solver_params() const { return impl_->solver_params; }
 const Bodies& World::bodies() const { return impl_->bodies; }
+const Rows& World::rows() const { return impl_->rows; }
+const Islands& World::islands() const { return impl_->islands; }
 
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;
