@@ -5,9 +5,9 @@
 // Timed: building the matrix (incl. symbolic analysis) and the pivoting solve, per BLCP.
 //   cold: sets start at the lower bounds (first contact);
 //   warm: sets start at those of a previous (untimed) solve, as in a settled step.
-// Counters: rows, bodies, pivoting iterations, factorisations (interior-point ones included),
-// whether the interior-point restart ran, and whether the solve converged (if not, the time is that
-// of max_iterations = 500 pivoting iterations).
+// Counters: rows, bodies, iterations (face solves), factorisations, whether projected Newton had to
+// finish after pivoting stalled, and whether the solve converged (if not, the time is that of
+// max_iterations = 500 iterations).
 #include "solve/blcp.hpp"
 #include "solve/dense_matrix.hpp"
 #include "solve/sparse_matrix.hpp"
@@ -84,7 +84,7 @@ void BM_Blcp(benchmark::State& st, Backend backend, bool warm) {
   st.counters["bodies"] = s.bodies;
   st.counters["iterations"] = last.iterations;
   st.counters["factorizations"] = last.factorizations;
-  st.counters["restarted"] = last.restarted;
+  st.counters["newton"] = last.newton;
   st.counters["converged"] = last.converged;
 }
 

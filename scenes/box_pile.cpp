@@ -12,18 +12,13 @@ namespace {
 SceneDef make_box_pile(const SceneParameters& p) {
   const int boxes = std::max(1, static_cast<int>(p.at("boxes")));
   SceneRandom rng(static_cast<std::uint64_t>(p.at("seed")));
-  SceneDef scene;
-  scene.name = "box_pile";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("box_pile", p);
   const double max_size = p.at("max_size"), spacing = 1.25 * max_size * std::sqrt(3.0);
   const int cols = std::max(2, static_cast<int>(std::ceil(std::sqrt(boxes / p.at("layers")))));
   const double half = 0.5 * cols * spacing;
   add_bin(scene, half, half, 1.0);
   static const double kMassSet[3] = {10, 100, 1000};
   for (int i = 0; i < boxes; ++i) {
-    const int layer = i / (cols * cols), cell = i % (cols * cols);
     BodyDef b;
     b.name = "box" + std::to_string(i);
     b.shape.type = ShapeType::Box;
@@ -33,10 +28,7 @@ SceneDef make_box_pile(const SceneParameters& p) {
       b.mass = kMassSet[std::min(2, static_cast<int>(rng.uniform(0, 3)))];
     else
       b.density = p.at("density");
-    const double jitter = 0.1 * max_size;
-    b.position = Vec3(-half + (cell % cols + 0.5) * spacing + rng.uniform(-jitter, jitter),
-                      -half + (cell / cols + 0.5) * spacing + rng.uniform(-jitter, jitter),
-                      0.5 * spacing + layer * spacing);
+    b.position = drop_grid_position(i, cols, spacing, 0.5 * spacing, 0.1 * max_size, rng);
     b.orientation = rng.rotation();
     scene.bodies.push_back(std::move(b));
   }

@@ -9,11 +9,7 @@ namespace rbpart {
 namespace {
 
 SceneDef make_box_stack(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "box_stack";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("box_stack", p);
   scene.bodies.push_back(static_box("ground", {0, 0, -0.5}, {5, 5, 0.5}));
   const double h = 0.5 * p.at("size");
   const int n = std::max(1, static_cast<int>(p.at("boxes")));

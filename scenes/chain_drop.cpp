@@ -9,40 +9,16 @@ namespace rbpart {
 namespace {
 
 SceneDef make_chain_drop(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "chain_drop";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("chain_drop", p);
   const int n = std::max(2, static_cast<int>(p.at("links")));
-  const double r = p.at("radius"), half = p.at("half_length"), pitch = 2 * (half + r);
-  const double length = n * pitch, height = p.at("height");
+  const double length = n * 2 * (p.at("half_length") + p.at("radius")), height = p.at("height");
   scene.bodies.push_back(static_box("ground", {0, 0, -0.5}, {length, length, 0.5}));
   // The bar runs across the chain (along y) under the point `bar_at` of the chain's length, so the
   // two sides of the chain fall unevenly and fold.
   const double bar_x = -0.5 * length + p.at("bar_at") * length;
   const double bar_r = p.at("bar_radius");
   scene.bodies.push_back(static_box("bar", {bar_x, 0, p.at("bar_height") - bar_r}, {bar_r, 1.0, bar_r}));
-  const Quat along_x = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
-  const int first = static_cast<int>(scene.bodies.size());
-  for (int i = 0; i < n; ++i) {
-    BodyDef b;
-    b.name = "link" + std::to_string(i);
-    b.shape.type = ShapeType::Capsule;
-    b.shape.radius = r;
-    b.shape.half_length = half;
-    b.mass = i == n - 1 ? p.at("mass") * p.at("end_ratio") : p.at("mass");
-    b.position = {-0.5 * length + (i + 0.5) * pitch, 0, height};
-    b.orientation = along_x;
-    scene.bodies.push_back(std::move(b));
-    if (i == 0) continue;
-    JointDef j;
-    j.type = JointType::Ball;
-    j.body_a = first + i;
-    j.body_b = first + i - 1;
-    j.anchor = {-0.5 * length + i * pitch, 0, height};
-    scene.joints.push_back(j);
-  }
+  add_capsule_chain(scene, p, Vec3(-0.5 * length, 0, height), Vec3::UnitX(), false);
   return scene;
 }
 

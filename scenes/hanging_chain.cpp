@@ -1,6 +1,5 @@
 // A chain of capsule links on ball joints hanging from the world, its last link much heavier,
 // released at an angle so it swings (joint drift test).
-#include <algorithm>
 #include <cmath>
 
 #include "scenes/scenes.hpp"
@@ -10,33 +9,11 @@ namespace rbpart {
 namespace {
 
 SceneDef make_hanging_chain(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "hanging_chain";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  const int n = std::max(1, static_cast<int>(p.at("links")));
-  const double r = p.at("radius"), half = p.at("half_length"), pitch = 2 * (half + r);
+  SceneDef scene = scene_base("hanging_chain", p);
+  const double pitch = 2 * (p.at("half_length") + p.at("radius"));
   const double theta = p.at("angle") * M_PI / 180.0;
-  const Vec3 down(std::sin(theta), 0, -std::cos(theta));
-  const Quat along = Quat::FromTwoVectors(Vec3::UnitZ(), down);
-  const Vec3 top(0, 0, n * pitch + 1);
-  for (int i = 0; i < n; ++i) {
-    BodyDef b;
-    b.name = "link" + std::to_string(i);
-    b.shape.type = ShapeType::Capsule;
-    b.shape.radius = r;
-    b.shape.half_length = half;
-    b.mass = i == n - 1 ? p.at("mass") * p.at("end_ratio") : p.at("mass");
-    b.position = top + (i + 0.5) * pitch * down;
-    b.orientation = along;
-    scene.bodies.push_back(std::move(b));
-    JointDef j;
-    j.type = JointType::Ball;
-    j.body_a = i;
-    j.body_b = i == 0 ? -1 : i - 1;
-    j.anchor = top + i * pitch * down;
-    scene.joints.push_back(j);
-  }
+  add_capsule_chain(scene, p, Vec3(0, 0, p.at("links") * pitch + 1), Vec3(std::sin(theta), 0, -std::cos(theta)),
+                    true);
   return scene;
 }
 

@@ -10,11 +10,7 @@ namespace rbpart {
 namespace {
 
 SceneDef make_log_tower(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "log_tower";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("log_tower", p);
   scene.bodies.push_back(static_box("ground", {0, 0, -0.5}, {10, 10, 0.5}));
   const int layers = std::max(1, static_cast<int>(p.at("layers")));
   const int logs = std::max(1, static_cast<int>(p.at("logs")));

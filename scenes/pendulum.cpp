@@ -8,10 +8,7 @@ namespace rbpart {
 namespace {
 
 SceneDef make_pendulum(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "pendulum";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
+  SceneDef scene = scene_base("pendulum", p);
   const double L = p.at("length"), theta = p.at("angle") * M_PI / 180.0;
   const Vec3 pivot(0, 0, 2 * L);
   BodyDef b;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -67,6 +68,49 @@ BodyDef static_box(const std::string& name, const Vec3& center, const Vec3& half
   b.orientation = orientation;
   b.density = 1;  // unused for static bodies, keeps the definition valid
   return b;
+}
+
+SceneDef scene_base(const std::string& name, const SceneParameters& p) {
+  SceneDef scene;
+  scene.name = name;
+  scene.dt = p.at("dt");
+  scene.steps = static_cast<int>(p.at("steps"));
+  if (p.count("friction")) scene.friction = p.at("friction");
+  return scene;
+}
+
+void add_capsule_chain(SceneDef& scene, const SceneParameters& p, const Vec3& start, const Vec3& direction,
+                       bool pinned) {
+  const int n = std::max(1, static_cast<int>(p.at("links")));
+  const double r = p.at("radius"), half = p.at("half_length"), pitch = 2 * (half + r);
+  const Quat along = Quat::FromTwoVectors(Vec3::UnitZ(), direction);
+  const int first = static_cast<int>(scene.bodies.size());
+  for (int i = 0; i < n; ++i) {
+    BodyDef b;
+    b.name = "link" + std::to_string(i);
+    b.shape.type = ShapeType::Capsule;
+    b.shape.radius = r;
+    b.shape.half_length = half;
+    b.mass = i == n - 1 ? p.at("mass") * p.at("end_ratio") : p.at("mass");
+    b.position = start + (i + 0.5) * pitch * direction;
+    b.orientation = along;
+    scene.bodies.push_back(std::move(b));
+    if (i == 0 && !pinned) continue;
+    JointDef j;
+    j.type = JointType::Ball;
+    j.body_a = first + i;
+    j.body_b = i == 0 ? -1 : first + i - 1;
+    j.anchor = start + i * pitch * direction;
+    scene.joints.push_back(j);
+  }
+}
+
+Vec3 drop_grid_position(int i, int cols, double spacing, double z0, double jitter, SceneRandom& rng) {
+  const int layer = i / (cols * cols), cell = i % (cols * cols);
+  const double half = 0.5 * cols * spacing;
+  const double x = -half + (cell % cols + 0.5) * spacing + rng.uniform(-jitter, jitter);
+  const double y = -half + (cell / cols + 0.5) * spacing + rng.uniform(-jitter, jitter);
+  return {x, y, z0 + layer * spacing};
 }
 
 void add_bin(SceneDef& scene, double hx, double hy, double height) {

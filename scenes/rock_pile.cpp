@@ -19,11 +19,7 @@ std::vector<Vec3> rock_vertices(SceneRandom& rng, double size, int points) {
 SceneDef make_rock_pile(const SceneParameters& p) {
   const int rocks = std::max(1, static_cast<int>(p.at("rocks")));
   SceneRandom rng(static_cast<std::uint64_t>(p.at("seed")));
-  SceneDef scene;
-  scene.name = "rock_pile";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("rock_pile", p);
 
   // Grid columns so that about `layers` layers hold every rock; the bin is as wide as the grid.
   const double max_size = p.at("max_size"), spacing = 1.3 * max_size;
@@ -34,7 +30,6 @@ SceneDef make_rock_pile(const SceneParameters& p) {
   const double heavy = p.at("mass_ratio_set");
   static const double kMassSet[3] = {10, 100, 1000};
   for (int i = 0; i < rocks; ++i) {
-    const int layer = i / (cols * cols), cell = i % (cols * cols);
     BodyDef b;
     b.name = "rock" + std::to_string(i);
     b.shape.type = ShapeType::Convex;
@@ -43,10 +38,7 @@ SceneDef make_rock_pile(const SceneParameters& p) {
       b.mass = kMassSet[std::min(2, static_cast<int>(rng.uniform(0, 3)))];
     else
       b.density = p.at("density");
-    const double jitter = 0.1 * max_size;
-    b.position = Vec3(-half + (cell % cols + 0.5) * spacing + rng.uniform(-jitter, jitter),
-                      -half + (cell / cols + 0.5) * spacing + rng.uniform(-jitter, jitter),
-                      0.5 * max_size + 0.05 + layer * spacing);
+    b.position = drop_grid_position(i, cols, spacing, 0.5 * max_size + 0.05, 0.1 * max_size, rng);
     b.orientation = rng.rotation();
     scene.bodies.push_back(std::move(b));
   }

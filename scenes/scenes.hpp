@@ -50,6 +50,16 @@ class SceneRandom {
 };
 
 // Shared pieces of scene building.
+// An empty scene with name, dt, steps and (if the scene has that parameter) friction from `p`.
+SceneDef scene_base(const std::string& name, const SceneParameters& p);
+// A chain of `links` capsules (parameters links, radius, half_length, mass, end_ratio) laid from
+// `start` along the unit `direction`, joined end to end by ball joints; the last link is end_ratio
+// times heavier; with `pinned` the first link's start is joined to the world.
+void add_capsule_chain(SceneDef& scene, const SceneParameters& p, const Vec3& start, const Vec3& direction,
+                       bool pinned);
+// Drop position of body i on a jittered grid of cols x cols cells of `spacing`, centred on the
+// origin, layers stacked upwards from height z0.
+Vec3 drop_grid_position(int i, int cols, double spacing, double z0, double jitter, SceneRandom& rng);
 BodyDef static_box(const std::string& name, const Vec3& center, const Vec3& half_extents,
                    const Quat& orientation = Quat::Identity());
 // A floor and four walls around [-hx, hx] x [-hy, hy], walls `height` tall.

@@ -9,11 +9,7 @@ namespace rbpart {
 namespace {
 
 SceneDef make_slope(const SceneParameters& p) {
-  SceneDef scene;
-  scene.name = "slope";
-  scene.dt = p.at("dt");
-  scene.steps = static_cast<int>(p.at("steps"));
-  scene.friction = p.at("friction");
+  SceneDef scene = scene_base("slope", p);
   const double theta = p.at("angle") * M_PI / 180.0;
   // The plane's normal is z turned by theta about y; downhill is (cos(theta), 0, -sin(theta)).
   const Quat tilt(Eigen::AngleAxisd(theta, Vec3::UnitY()));

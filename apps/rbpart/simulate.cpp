@@ -115,6 +115,10 @@ Run add_simulate(CLI::App& app) {
                   "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd->add_option("--contact-margin", o->step_params.contact_margin,
+                  "Contacts are generated up to this separation (m), handled speculatively")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--erp", o->step_params.erp, "Error reduction per step (Baumgarte), in (0, 1]")
       ->check(CLI::Range(1e-9, 1.0))
       ->capture_default_str();

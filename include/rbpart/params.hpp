@@ -28,7 +28,9 @@ struct SolverParams {
   // Direct (block principal pivoting, DESIGN.md §3).
   int dense_max_rows = 300;        // islands up to this many rows use dense Cholesky, larger CHOLMOD
   int max_pivot_iterations = 500;  // per BLCP solve
-  int murty_after = 3;             // iterations without progress before Murty's single swaps
+  // Pivoting iterations without fewer infeasible rows before projected Newton takes over (the name
+  // is that of the former Murty safeguard, kept because outputs report it under this key).
+  int murty_after = 3;
   int friction_passes = 6;         // outer fixed-point passes for the friction bounds
   double friction_tolerance = 1e-6;  // relative change of normal impulses that ends the passes
   // PGS (the iterative baseline).

@@ -12,11 +12,13 @@
 //   distances up to the margin. Ours, per pair:
 //   1. btGjkEpaSolver2 gives a normal and a closest pair: GJK on the shapes' cores, EPA on the
 //      shapes when the cores overlap. Spheres and capsules are a point or segment core plus their
-//      radius, which is exact. Boxes, cylinders and hulls are a core shrunk by a rounding radius of
-//      1e-6 of their size, plus that radius: shapes that touch then have cores apart, so GJK's
-//      normal is well conditioned (margin-free polytopes in contact give GJK a zero vector).
+//      radius, which is exact. Margin-free polytopes in contact give GJK a zero vector to
+//      normalise, so one shape of every other pair is rounded: a core shrunk by a rounding radius
+//      (a twentieth of the contact margin), plus that radius. Touching shapes then have cores
+//      apart, and resting contacts, which sink by about the solver's slop, never need EPA.
 //   2. The closest pair is moved onto the exact shapes' support sets along the normal, so its
-//      distance is the gap between their support planes, free of the rounding.
+//      distance is the gap between their support planes, free of the rounding. Where both support
+//      sets are vertices, edges or cores, the normal becomes the line between their closest points.
 //   3. If a flat face (box or hull face, cylinder cap) is aligned with the normal, it is the
 //      reference face, and the other shape's supporting feature (face, cap polygon, side line,
 //      capsule segment) is clipped against the face's side planes (Sutherland-Hodgman). Every
@@ -168,11 +170,12 @@ namespace {
 // margin, so that resting contacts (which sink by about the solver's slop, well under a tenth of
 // the margin) keep the cores apart and never need EPA; at most a twentieth of the shape's
 // thickness; at least 1e-6 of its size, so that touching cores stay apart with no margin at all.
-// It does not enter distances (support planes) or the positions of polytope contacts (support
-// sets); it can shift a cylinder rim's contact along the surface by about its size.
+// It does not enter distances (support planes) or face contacts (clipping); a contact where a
+// vertex or a cylinder rim meets an edge can sit up to about the radius off along the surface.
 double rounding_radius(double margin, double thickness, double size) {
   return std::max(1e-6 * size, std::min(0.05 * margin, 0.05 * thickness));
 }
+
 // Support points this close (relative to the size) along a normal tie.
 constexpr double kFlat = 1e-6;
 // A flat face is the reference of a manifold when its normal is within ~0.8 degrees of the contact
@@ -245,7 +248,7 @@ Polyhedron make_polyhedron(const std::vector<Vec3>& points) {
   return p;
 }
 
-// What the narrow phase knows of a body's shape besides its Bullet shape.
+// A body's shape as the narrow phase sees it.
 struct Geometry {
   ShapeType type = ShapeType::Sphere;
   double radius = 0, half_length = 0;  // sphere, capsule, cylinder
@@ -372,8 +375,9 @@ bool NarrowPhase::feature(int body, const SupportSet& set, Vec3& f0, Vec3& f1) c
   return true;
 }
 
-// When GJK and EPA both fail: of the flat faces' normals, the previous normal and the centre line,
-// the axis that separates the pair most (overlaps it least), with the support points along it.
+// Of the flat faces' normals, the previous normal and the centre line, the axis that separates the
+// pair most (overlaps it least), with the support points along it: stands in when GJK and EPA
+// fail, and checks EPA next to a cylinder.
 PairPoint NarrowPhase::best_face_axis(int a, int b, const Vec3& previous) const {
   PairPoint best;
   best.distance = -INFINITY;
@@ -406,7 +410,7 @@ SupportSet NarrowPhase::support_set(int body, const Vec3& dir, const Vec3& near)
   const Mat3& R = rotation[body];
   const Vec3 axis = R.col(2);
   const double along = axis.dot(dir), flat = kFlat * g.size;
-  auto on_plane = [&](const Vec3& p) { return SupportSet{SupportSet::Flat, near + dir.dot(p - near) * dir, near}; };
+  auto on_plane = [&](const Vec3& p) { return SupportSet{SupportSet::Flat, near + dir.dot(p - near) * dir, {}}; };
   switch (g.type) {
     case ShapeType::Sphere:
       return {SupportSet::Point, support(body, dir), {}};
@@ -631,8 +635,6 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n) {
   return kept;
 }
 
-// The pair's contacts (at most kMaxPoints) into `out`. `axis` is the pair's normal of the previous
-// call (zero at first), updated here.
 // Parameters (s, t) in [0, 1] of the closest points of segments p0-p1 and q0-q1 (Ericson,
 // Real-Time Collision Detection, 5.1.9).
 void closest_on_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, double& s, double& t) {
@@ -687,6 +689,8 @@ Vec3 meeting_point(const SupportSet& a, const SupportSet& b, const Vec3& n) {
   return 0.5 * (a.p0 + b.p0);
 }
 
+// The pair's contacts (at most kMaxPoints) into `out`. `axis` is the pair's normal of the previous
+// call (zero at first), updated here.
 int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, Vec3& axis,
                           PairPoint* out) {
   // The broad phase pairs boxes grown by its own margin (Bullet's gDbvtMargin, 5 cm): pairs whose
@@ -741,14 +745,20 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
     have_pair = true;
   }
   if (!converged) {
-    // EPA's normal on round parts is a polytope's approximation: a face's normal that overlaps
-    // the pair less is the better axis.
-    const PairPoint face = best_face_axis(a, b, axis);
-    if (btGjkEpaSolver2::Penetration(sa, ta, sb, tb, guess, r, true) &&
-        std::abs(r.distance - plane_gap(r.normal)) <= 1e-6 * scale && r.distance >= face.distance - tolerance) {
-      closest = {to_eigen(r.witnesses[0]), to_eigen(r.witnesses[1]), to_eigen(ta.getBasis() * r.normal), r.distance};
-    } else if (!have_pair || face.distance > closest.distance) {
-      closest = face;
+    // EPA's normal on a cylinder's round side is a polytope's approximation: a face's normal
+    // that overlaps the pair less is the better axis. On polytopes EPA is exact.
+    const bool epa = btGjkEpaSolver2::Penetration(sa, ta, sb, tb, guess, r, true) &&
+                     std::abs(r.distance - plane_gap(r.normal)) <= 1e-6 * scale;
+    const PairPoint from_epa = {to_eigen(r.witnesses[0]), to_eigen(r.witnesses[1]),
+                                to_eigen(ta.getBasis() * r.normal), r.distance};
+    if (epa && ga.type != ShapeType::Cylinder && gb.type != ShapeType::Cylinder) {
+      closest = from_epa;
+    } else {
+      const PairPoint face = best_face_axis(a, b, axis);
+      if (epa && r.distance >= face.distance - tolerance)
+        closest = from_epa;
+      else if (!have_pair || face.distance > closest.distance)
+        closest = face;
     }
   }
   axis = closest.normal;
@@ -773,17 +783,18 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
     const Vec3 u = fa0 + s * (fa1 - fa0) - (fb0 + t * (fb1 - fb0));
     if (u.dot(n) > 0) {
       const Vec3 refined = u.normalized();
-      const SupportSet ra = support_set(a, -refined, closest.on_a), rb = support_set(b, refined, closest.on_b);
+      const SupportSet along_a = support_set(a, -refined, closest.on_a);
+      const SupportSet along_b = support_set(b, refined, closest.on_b);
       Vec3 ga0, ga1, gb0, gb1;
-      if (feature(a, ra, ga0, ga1) && feature(b, rb, gb0, gb1) && ga0 == fa0 && ga1 == fa1 && gb0 == fb0 &&
-          gb1 == fb1) {
+      if (feature(a, along_a, ga0, ga1) && feature(b, along_b, gb0, gb1) && ga0 == fa0 && ga1 == fa1 &&
+          gb0 == fb0 && gb1 == fb1) {
         n = refined;
-        sa_set = ra;
-        sb_set = rb;
+        sa_set = along_a;
+        sb_set = along_b;
       }
     }
   }
-  closest.normal = n;
+  closest.normal = axis = n;
   const double plane_a = n.dot(sa_set.p0), plane_b = n.dot(sb_set.p0);
   closest.distance = plane_a - plane_b;
   if (!(closest.distance <= margin)) return 0;

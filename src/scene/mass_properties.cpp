@@ -97,7 +97,7 @@ MassProperties convex(const std::vector<Vec3>& vertices) {
   }
   const double extent = (hi - lo).maxCoeff();
 
-  // Interior reference point: the mean of the vertices the faces use.
+  // Reference point inside the hull: a mean of its vertices (each counted once per face).
   Vec3 o = Vec3::Zero();
   for (int idx : hull.indices) o += vertices[idx];
   if (!hull.indices.empty()) o /= static_cast<double>(hull.indices.size());

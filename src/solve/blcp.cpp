@@ -1,7 +1,5 @@
 #include "solve/blcp.hpp"
 
-#include "solve/interior_point.hpp"
-
 #include <limits>
 
 namespace rbpart {
@@ -10,18 +8,22 @@ namespace {
 
 // Lower bound for s = max |q| so that a BLCP with q = 0 still has an absolute scale.
 constexpr double kMinScale = 1e-12;
-// Iterative refinement of lambda_F (DESIGN.md §3 asks for exact answers): at most this many
-// corrections per pivoting iteration, each a solve with the factor already computed. Backends that
-// are backward stable (Cholesky of A_FF) rarely need one; the body-space backend, whose Woodbury
-// solve cancels digits when sigma is tiny, needs one or two.
+// Iterative refinement of a face solve (DESIGN.md §3 asks for exact answers): at most this many
+// corrections, each a solve with the factor already computed. Backends that are backward stable
+// (Cholesky of A_FF) rarely need one; the body-space backend, whose Woodbury solve cancels digits
+// when sigma is tiny, needs one or two.
 constexpr int kMaxRefinements = 3;
 // Refine while max_F |w| exceeds this fraction of the feasibility tolerance.
 constexpr double kRefineFraction = 1e-2;
 // Round-off allowance of w = A lambda + q in units of eps * max_j A_jj |lambda_j| (a row sums a few
 // tens of terms of that size).
 constexpr double kRoundoffFactor = 64;
-// Interior-point restarts per fixed-bounds solve; each costs a few tens of factorisations.
-constexpr int kMaxRestarts = 3;
+// Armijo's sufficient-decrease fraction and the step halvings tried along the projected path.
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxHalvings = 60;
+
+
+double clamp_row(double v, double lo, double hi) { return std::clamp(v, lo, std::max(lo, hi)); }
 
 }  // namespace
 
@@ -42,69 +44,30 @@ BlcpResult solve_blcp(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vect
   const double scale = std::max(max_abs(q), kMinScale);
   double tol_w = settings.tolerance * scale;
   auto is_fixed = [&](int j) { return !(lo[j] < hi[j]); };  // lo == hi: clamped whatever w is
-
-  // Warm-start sets, made consistent with the bounds: no clamping at an infinite bound.
-  for (int j = 0; j < n; ++j) {
-    if (is_fixed(j)) state[j] = RowState::Lower;
-    else if (state[j] == RowState::Lower && lo[j] == -std::numeric_limits<double>::infinity()) state[j] = RowState::Free;
-    else if (state[j] == RowState::Upper && hi[j] == std::numeric_limits<double>::infinity()) state[j] = RowState::Free;
-  }
-  // The best iterate so far by the natural-map residual of its projection onto the bounds (what
-  // is returned if pivoting does not converge); initially the warm start.
-  ws.best_lambda.resize(n);
-  for (int j = 0; j < n; ++j) ws.best_lambda[j] = std::isfinite(lambda[j]) ? lambda[j] : 0.0;
-  double best_residual = std::numeric_limits<double>::infinity();
-  auto keep_if_better = [&](const Eigen::VectorXd& candidate) {
-    // candidate projected, then its residual with w = A candidate + q (uses ws.delta, ws.ax).
-    for (int j = 0; j < n; ++j) ws.delta[j] = std::clamp(candidate[j], lo[j], std::max(lo[j], hi[j]));
-    A.multiply(ws.delta, ws.ax);
-    double r = 0;
-    for (int j = 0; j < n; ++j) {
-      const double wj = ws.ax[j] + q[j];
-      const double projected = std::clamp(ws.delta[j] - wj / diag[j], lo[j], std::max(lo[j], hi[j]));
-      r = std::max(r, std::abs(ws.delta[j] - projected) * diag[j]);
-    }
-    if (r < best_residual && std::isfinite(r)) {
-      best_residual = r;
-      ws.best_lambda = ws.delta;
-    }
+  // No test can be finer than the round-off of w = A lambda + q, about eps * A_jj |lambda_j| summed
+  // over a row: with redundant rows and a tiny sigma, fighting constraints (q not in the range of J)
+  // drive lambda to ~q / sigma, and a fixed tolerance would then swap rows on noise.
+  auto update_tolerance = [&](const Eigen::VectorXd& v) {
+    double terms = 0;
+    for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(v[j]) * diag[j]);
+    tol_w = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
   };
 
-  // Wrong-signed w of a clamped row, or distance outside the bounds of a free row (times A_jj, so
-  // that both are in units of w). Positive means infeasible.
-  auto violation = [&](int j) {
-    switch (state[j]) {
-      case RowState::Free: return std::max(lo[j] - lambda[j], lambda[j] - hi[j]) * diag[j];
-      case RowState::Lower: return is_fixed(j) ? 0.0 : -ws.w[j];
-      case RowState::Upper: return is_fixed(j) ? 0.0 : ws.w[j];
-    }
-    return 0.0;
-  };
-  auto swap = [&](int j) {
-    if (state[j] != RowState::Free) state[j] = RowState::Free;
-    else state[j] = lambda[j] < lo[j] ? RowState::Lower : RowState::Upper;
-  };
-
-  int fewest = n + 1;
-  int patience = settings.murty_after;
-  int restarts = 0;
-  for (int it = 0; it < settings.max_iterations; ++it) {
-    for (int j = 0; j < n; ++j) ws.free[j] = state[j] == RowState::Free;
+  // Face solve: lambda_F = -A_FF^-1 (q_F + A_FC lambda_C) with lambda_C given on entry, refined
+  // until w_F = 0 to round-off; leaves w = A lambda + q. False if A_FF could not be factored.
+  auto face_solve = [&]() {
     const int factored = A.prepare(ws.free);
-    if (factored < 0) break;
+    if (factored < 0) return false;
     result.factorizations += factored;
     ++result.iterations;
-
-    // lambda_F = -A_FF^-1 (q_F + A_FC lambda_C), lambda_C at its bounds.
-    for (int j = 0; j < n; ++j) lambda[j] = ws.free[j] ? 0.0 : (state[j] == RowState::Upper ? hi[j] : lo[j]);
+    for (int j = 0; j < n; ++j)
+      if (ws.free[j]) lambda[j] = 0.0;
     A.multiply(lambda, ws.ax);
     for (int j = 0; j < n; ++j)
       if (ws.free[j]) lambda[j] = -(q[j] + ws.ax[j]);
     A.solve(lambda);
     A.multiply(lambda, ws.ax);
     ws.w = ws.ax + q;
-
-    // Iterative refinement: w_F = 0 in exact arithmetic.
     auto free_residual = [&] {
       double r = 0;
       for (int j = 0; j < n; ++j)
@@ -129,71 +92,332 @@ BlcpResult solve_blcp(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vect
       }
       residual = refined;
     }
-    if (!lambda.allFinite() || !ws.w.allFinite()) break;
-    // No test can be finer than the round-off of w = A lambda + q, about eps * A_jj |lambda_j|
-    // summed over a row: with redundant rows and a tiny sigma, fighting constraints (q not in the
-    // range of J) drive lambda to ~q / sigma, and a fixed tolerance would then swap rows on noise.
-    double terms = 0;
-    for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(lambda[j]) * diag[j]);
-    tol_w = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
+    return lambda.allFinite() && ws.w.allFinite();
+  };
 
-    // Infeasible rows.
-    int count = 0, highest = -1;
-    for (int j = 0; j < n; ++j)
-      if (violation(j) > tol_w) {
-        ++count;
-        highest = j;
-      }
+  // The start of projected Newton: the feasible point of least f = 1/2 l^T A l + q^T l among the
+  // projection of 0, of the warm-start values and of every pivoting iterate. f(x) = 1/2 x.(g + q)
+  // with g = A x + q.
+  double best_f = std::numeric_limits<double>::infinity();
+  ws.x.resize(n);
+  ws.gx.resize(n);
+  auto offer = [&](const Eigen::VectorXd& candidate) {
+    for (int j = 0; j < n; ++j) ws.delta[j] = clamp_row(std::isfinite(candidate[j]) ? candidate[j] : 0.0, lo[j], hi[j]);
+    A.multiply(ws.delta, ws.ax);
+    ws.ax += q;
+    const double f = 0.5 * ws.delta.dot(ws.ax + q);
+    if (f < best_f) {
+      best_f = f;
+      ws.x = ws.delta;
+      ws.gx = ws.ax;
+    }
+  };
+  offer(Eigen::VectorXd::Zero(n));
+  offer(lambda);
+
+  // Warm-start sets, made consistent with the bounds: no clamping at an infinite bound.
+  for (int j = 0; j < n; ++j) {
+    if (is_fixed(j)) state[j] = RowState::Lower;
+    else if (state[j] == RowState::Lower && lo[j] == -std::numeric_limits<double>::infinity()) state[j] = RowState::Free;
+    else if (state[j] == RowState::Upper && hi[j] == std::numeric_limits<double>::infinity()) state[j] = RowState::Free;
+  }
+
+  // Phase 1, block principal pivoting (Judice & Pires): swap every infeasible row while the count of
+  // infeasible rows keeps reaching new lows (within the patience).
+  auto violation = [&](int j) {  // > 0: infeasible, in units of w
+    switch (state[j]) {
+      case RowState::Free: return std::max(lo[j] - lambda[j], lambda[j] - hi[j]) * diag[j];
+      case RowState::Lower: return is_fixed(j) ? 0.0 : -ws.w[j];
+      case RowState::Upper: return is_fixed(j) ? 0.0 : ws.w[j];
+    }
+    return 0.0;
+  };
+  int fewest = n + 1;
+  int patience = settings.pivot_patience;
+  while (result.iterations < settings.max_iterations) {
+    for (int j = 0; j < n; ++j) {
+      ws.free[j] = state[j] == RowState::Free;
+      if (!ws.free[j]) lambda[j] = state[j] == RowState::Upper ? hi[j] : lo[j];
+    }
+    if (!face_solve()) break;
+    update_tolerance(lambda);
+    int count = 0;
+    for (int j = 0; j < n; ++j) count += violation(j) > tol_w;
     if (count == 0) {
       result.converged = true;
       return result;
     }
-    keep_if_better(lambda);
-
-    // Judice & Pires with the restart: block swaps while the count reaches new lows (or within the
-    // patience); a stall with many infeasible rows restarts from interior-point sets, which are
-    // then finished by Murty's single swaps as long as few rows remain wrong; Murty's rule also
-    // takes over once the restarts are used up.
-    if (restarts > 0 && count <= settings.murty_max_infeasible) {
-      result.murty = true;
-      swap(highest);
-      continue;
-    }
+    offer(lambda);
     if (count < fewest) {
       fewest = count;
-      patience = settings.murty_after;
-    } else if (patience > 0) {
-      --patience;
-    } else if (restarts < kMaxRestarts && count > settings.murty_max_infeasible) {
-      ++restarts;
-      result.restarted = true;
-      result.factorizations +=
-          interior_point_sets(A, q, lo, hi, state, settings.interior_point_iterations, ws.interior);
-      keep_if_better(ws.interior.x);
-      fewest = n + 1;
-      patience = settings.murty_after;
-      continue;
-    } else {
-      result.murty = true;
-      swap(highest);
-      continue;
+      patience = settings.pivot_patience;
+    } else if (patience-- <= 0) {
+      break;
     }
-    for (int j = 0; j < n; ++j)
-      if (violation(j) > tol_w) swap(j);
+    for (int j = 0; j < n; ++j) {
+      if (violation(j) <= tol_w) continue;
+      if (state[j] != RowState::Free) state[j] = RowState::Free;
+      else state[j] = lambda[j] < lo[j] ? RowState::Lower : RowState::Upper;
+    }
   }
 
-  // Not converged (iteration cap or a failed factorisation): the best iterate, inside the bounds,
-  // with the sets it implies.
-  lambda = ws.best_lambda;
-  for (int j = 0; j < n; ++j) {
-    lambda[j] = std::clamp(lambda[j], lo[j], std::max(lo[j], hi[j]));
+  // Phase 2, a primal active-set method on the box QP from the best feasible point x (gradient
+  // g = A x + q), which decreases f monotonically and so cannot cycle. Working set W: rows held on a
+  // bound; the face solve z minimises f with W held. If z is feasible, x = z is the face's minimiser;
+  // if no row of W has a wrong-signed g it is the solution, else every such row is released (one
+  // row, the worst, if the last release gained nothing: a single release always gains, as its row
+  // then moves inwards). If z is infeasible, x moves towards it along the projected path
+  // P(x + a (z - x)) with the largest a = 1, 1/2, ... meeting Armijo's condition, and at least to
+  // the first bound on the segment (the exact ratio test, where f still decreases); the rows
+  // that end on a bound join W. W only grows between releases, and f strictly decreases from one
+  // face minimiser to the next, so no face repeats. The projected path clamps many rows per step
+  // where the ratio test clamps one.
+  result.newton = result.iterations < settings.max_iterations;
+  Eigen::VectorXd& x = ws.x;
+  Eigen::VectorXd& g = ws.gx;
+  for (int j = 0; j < n; ++j) ws.free[j] = !(is_fixed(j) || x[j] == lo[j] || x[j] == hi[j]);
+  double last_minimum = std::numeric_limits<double>::infinity();
+  while (result.iterations < settings.max_iterations) {
+    lambda = x;
+    if (!face_solve()) break;
+    ws.step = lambda - x;  // zero on W
+    double block = 1;      // ratio test: the largest a <= 1 with x + a d feasible
+    for (int j = 0; j < n; ++j) {
+      if (!ws.free[j]) continue;
+      if (lambda[j] < lo[j]) block = std::min(block, (lo[j] - x[j]) / (lambda[j] - x[j]));
+      else if (lambda[j] > hi[j]) block = std::min(block, (hi[j] - x[j]) / (lambda[j] - x[j]));
+    }
+    if (block >= 1) {  // the face's minimiser is feasible
+      x = lambda;
+      g = ws.w;
+      update_tolerance(x);
+      const double f = 0.5 * x.dot(g + q);
+      const bool single = !(f < last_minimum);
+      last_minimum = std::min(last_minimum, f);
+      int worst = -1;
+      double worst_violation = tol_w;
+      for (int j = 0; j < n; ++j) {
+        if (ws.free[j] || is_fixed(j)) continue;
+        const double v = x[j] == lo[j] ? -g[j] : g[j];
+        if (v <= tol_w) continue;
+        if (!single) ws.free[j] = 1;
+        if (v > worst_violation) {
+          worst_violation = v;
+          worst = j;
+        }
+      }
+      if (worst < 0) {
+        result.converged = true;
+        break;
+      }
+      ws.free[worst] = 1;
+      continue;
+    }
+    // Projected search, the decrease computed from the step s itself (g.s + 1/2 s^T A s), not as
+    // a difference of two large values of f.
+    double a = 1;
+    for (; a > block; a *= 0.5) {
+      for (int j = 0; j < n; ++j) ws.delta[j] = clamp_row(x[j] + a * ws.step[j], lo[j], hi[j]) - x[j];
+      const double slope = g.dot(ws.delta);
+      if (!(slope < 0)) continue;
+      A.multiply(ws.delta, ws.ax);
+      if (slope + 0.5 * ws.delta.dot(ws.ax) <= kArmijo * slope) break;
+    }
+    if (a > block) {
+      for (int j = 0; j < n; ++j) x[j] = clamp_row(x[j] + a * ws.step[j], lo[j], hi[j]);
+    } else {
+      // The segment's first bound: rows reaching it are put exactly on it.
+      for (int j = 0; j < n; ++j) {
+        if (!ws.free[j]) continue;
+        const double v = x[j] + block * ws.step[j];
+        if (lambda[j] < lo[j] && (v <= lo[j] || (lo[j] - x[j]) == block * (lambda[j] - x[j]))) x[j] = lo[j];
+        else if (lambda[j] > hi[j] && (v >= hi[j] || (hi[j] - x[j]) == block * (lambda[j] - x[j]))) x[j] = hi[j];
+        else x[j] = clamp_row(v, lo[j], hi[j]);
+      }
+    }
+    int added = 0;
+    for (int j = 0; j < n; ++j)
+      if (ws.free[j] && (x[j] == lo[j] || x[j] == hi[j])) {
+        ws.free[j] = 0;
+        ++added;
+      }
+    if (added == 0) {  // the ratio row missed its bound by round-off: clamp it
+      int arg = -1;
+      double best = std::numeric_limits<double>::infinity();
+      for (int j = 0; j < n; ++j) {
+        if (!ws.free[j] || (lambda[j] >= lo[j] && lambda[j] <= hi[j])) continue;
+        const double t = lambda[j] < lo[j] ? (lo[j] - x[j]) : (x[j] - hi[j]);
+        if (std::abs(t) < best) {
+          best = std::abs(t);
+          arg = j;
+        }
+      }
+      x[arg] = lambda[arg] < lo[arg] ? lo[arg] : hi[arg];
+      ws.free[arg] = 0;
+    }
+    A.multiply(x, g);
+    g += q;
+  }
+
+  if (!result.converged) {
+    // The feasible iterate of least f (pivoting's projected iterates were offered; x is the
+    // Newton iterate, which only decreases f from the best of them).
+    lambda = ws.x;
+    A.multiply(lambda, ws.ax);
+    ws.w = ws.ax + q;
+  }
+  for (int j = 0; j < n; ++j)
     state[j] = is_fixed(j) || lambda[j] == lo[j] ? RowState::Lower
                : lambda[j] == hi[j]              ? RowState::Upper
                                                  : RowState::Free;
-  }
-  A.multiply(lambda, ws.ax);
-  ws.w = ws.ax + q;
   return result;
+}
+
+}  // namespace rbpart
+
+namespace rbpart {
+
+namespace {
+
+// Restarted GMRES for y = op(x) on the rows with mask[j] != 0 (other entries stay 0), from x = 0.
+// Stops at |r| <= rel_tol |b| or after max_iterations applications of op.
+template <class Op>
+void gmres(Op&& op, const Eigen::VectorXd& b, const std::vector<char>& mask, Eigen::VectorXd& x, int restart,
+           int max_iterations, double rel_tol) {
+  const Eigen::Index n = b.size();
+  x.setZero(n);
+  const double b_norm = b.norm();
+  if (b_norm == 0) return;
+  Eigen::MatrixXd v(n, restart + 1), h = Eigen::MatrixXd::Zero(restart + 1, restart);
+  Eigen::VectorXd cs(restart), sn(restart), e(restart + 1), r(n), y;
+  int used = 0;
+  while (used < max_iterations) {
+    op(x, r);
+    r = b - r;
+    double beta = r.norm();
+    if (beta <= rel_tol * b_norm) return;
+    v.col(0) = r / beta;
+    e.setZero();
+    e[0] = beta;
+    int k = 0;
+    for (; k < restart && used < max_iterations; ++k, ++used) {
+      Eigen::VectorXd w(n);
+      op(v.col(k), w);
+      for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
+        h(i, k) = v.col(i).dot(w);
+        w -= h(i, k) * v.col(i);
+      }
+      h(k + 1, k) = w.norm();
+      if (h(k + 1, k) > 0) v.col(k + 1) = w / h(k + 1, k);
+      for (int i = 0; i < k; ++i) {
+        const double t = cs[i] * h(i, k) + sn[i] * h(i + 1, k);
+        h(i + 1, k) = -sn[i] * h(i, k) + cs[i] * h(i + 1, k);
+        h(i, k) = t;
+      }
+      const double d = std::hypot(h(k, k), h(k + 1, k));
+      cs[k] = h(k, k) / d;
+      sn[k] = h(k + 1, k) / d;
+      h(k, k) = d;
+      h(k + 1, k) = 0;
+      e[k + 1] = -sn[k] * e[k];
+      e[k] = cs[k] * e[k];
+      if (std::abs(e[k + 1]) <= rel_tol * b_norm || h(k + 1, k) == 0) {
+        ++k;
+        ++used;
+        break;
+      }
+    }
+    y = h.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(e.head(k));
+    x += v.leftCols(k) * y;
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (!mask[j]) x[j] = 0;
+  }
+}
+
+}  // namespace
+
+bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
+                           const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
+                           const BlcpSettings& settings, CoupledWorkspace& cw) {
+  const int n = A.size();
+  if (n == 0) return true;
+  const std::vector<int>& normal_of = *f.normal_of;
+  const std::vector<double>& mu = *f.mu;
+  const Eigen::VectorXd& diag = A.diagonal();
+  cw.free.assign(n, 0);
+  cw.slope.setZero(n);  // +-mu for sliding friction rows, 0 elsewhere
+  cw.fixed.setZero(n);  // values of the clamped rows
+  for (int j = 0; j < n; ++j) {
+    const int nj = normal_of[j];
+    if (nj >= 0) {
+      const bool normal_free = state[nj] == RowState::Free;
+      if (!normal_free) continue;  // its normal impulse is 0: the friction row is held at 0
+      if (state[j] == RowState::Free || !(lo[j] < hi[j])) cw.free[j] = 1;  // sticking (or newly loaded)
+      else cw.slope[j] = state[j] == RowState::Upper ? mu[j] : -mu[j];
+      continue;
+    }
+    if (state[j] == RowState::Free) cw.free[j] = 1;
+    else cw.fixed[j] = state[j] == RowState::Upper ? hi[j] : lo[j];
+  }
+  if (A.prepare(cw.free) < 0) return false;
+  // op(x) = x_F + A_FF^-1 (A t)_F, t_s = slope_s x[normal_of[s]]: the free rows' equations with the
+  // sliding rows substituted, preconditioned by the factor of A_FF (identity plus a rank |S| term).
+  auto op = [&](const auto& x, Eigen::VectorXd& y) {
+    for (int j = 0; j < n; ++j) cw.t[j] = cw.slope[j] != 0 ? cw.slope[j] * x[normal_of[j]] : 0.0;
+    A.multiply(cw.t, cw.u);
+    for (int j = 0; j < n; ++j) cw.u[j] = cw.free[j] ? cw.u[j] : 0.0;
+    A.solve(cw.u);
+    for (int j = 0; j < n; ++j) y[j] = cw.free[j] ? x[j] + cw.u[j] : 0.0;
+  };
+  cw.t.resize(n);
+  cw.u.resize(n);
+  cw.x.setZero(n);
+  cw.w.resize(n);
+  cw.b.resize(n);
+  auto assemble = [&](Eigen::VectorXd& out) {  // lambda from the free values in cw.x
+    for (int j = 0; j < n; ++j)
+      out[j] = cw.free[j] ? cw.x[j] : cw.slope[j] != 0 ? cw.slope[j] * cw.x[normal_of[j]] : cw.fixed[j];
+  };
+  cw.lambda.resize(n);
+  constexpr int kRounds = 3;
+  for (int round = 0; round < kRounds; ++round) {
+    assemble(cw.lambda);
+    A.multiply(cw.lambda, cw.w);
+    cw.w += q;
+    for (int j = 0; j < n; ++j) cw.b[j] = cw.free[j] ? -cw.w[j] : 0.0;
+    A.solve(cw.b);
+    gmres(op, cw.b, cw.free, cw.delta, std::min(n, 60), 4 * n + 60, 1e-14);
+    cw.x += cw.delta;
+  }
+  assemble(cw.lambda);
+  A.multiply(cw.lambda, cw.w);
+  cw.w += q;
+  if (!cw.lambda.allFinite() || !cw.w.allFinite()) return false;
+  // Accept only an exact solution of the coupled BLCP: bounds from its own normal impulses.
+  cw.lo = lo;
+  cw.hi = hi;
+  set_friction_bounds(f, cw.lambda, cw.lo, cw.hi);
+  const double scale = std::max(max_abs(q), kMinScale);
+  double terms = 0;
+  for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(cw.lambda[j]) * diag[j]);
+  const double tol = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
+  for (int j = 0; j < n; ++j) {
+    const double l = cw.lambda[j], w = cw.w[j];
+    if (cw.free[j]) {
+      if (std::abs(w) > tol || (cw.lo[j] - l) * diag[j] > tol || (l - cw.hi[j]) * diag[j] > tol) return false;
+    } else if (cw.lo[j] < cw.hi[j]) {
+      if (l <= cw.lo[j] ? w < -tol : l >= cw.hi[j] ? w > tol : std::abs(w) > tol) return false;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    lambda[j] = std::clamp(cw.lambda[j], cw.lo[j], std::max(cw.lo[j], cw.hi[j]));
+    state[j] = cw.free[j] && cw.lo[j] < cw.hi[j] ? RowState::Free
+               : lambda[j] == cw.hi[j] && cw.lo[j] < cw.hi[j] ? RowState::Upper
+                                                              : RowState::Lower;
+  }
+  lo = cw.lo;
+  hi = cw.hi;
+  return true;
 }
 
 }  // namespace rbpart

@@ -1,13 +1,17 @@
 #pragma once
 // The fixed-bounds BLCP core (DESIGN.md §3): w = A lambda + q, lo <= lambda <= hi, A symmetric
-// positive definite, solved exactly by block principal pivoting (Judice & Pires 1994) with Murty's
-// single-swap safeguard. When pivoting stalls with many infeasible rows (box friction on sliding
-// piles), it restarts from the index sets of an interior-point solve (solve/interior_point.hpp)
-// before resorting to Murty's one-row-per-factorisation swaps. The matrix is reached only through
-// BlcpMatrix (products with A, factor and solve with the free block A_FF), so the monolithic solver,
-// its sparse backends and the interface problem of the substructured solver (DESIGN.md §7) share
-// this one implementation. The friction outer loop (friction_passes) is written once on top of any
-// fixed-bounds solve.
+// positive definite, solved exactly. The BLCP is the optimality condition of the strictly convex
+// box QP  min f(l) = 1/2 l^T A l + q^T l,  lo <= l <= hi,  whose minimiser is unique. Block principal
+// pivoting (Judice & Pires 1994) runs first: from warm-start sets it usually finishes in one or two
+// iterations. It is not monotone, and on piles with box friction and redundant contacts (A's
+// eigenvalue ratio ~1e-8) it cycles; when it stops reaching new lows of infeasible rows, a
+// projected Newton method on the QP (Bertsekas 1982) takes over from the best feasible point seen:
+// every iteration solves with A_FF on the current face and takes a projected step that decreases
+// f, so it cannot cycle, and its last step is the same exact face solve as pivoting's. The matrix is
+// reached only through BlcpMatrix (products with A, factor and solve with the free block A_FF), so
+// the monolithic solver, its sparse backends and the interface problem of the substructured solver
+// (DESIGN.md §7) share this one implementation. The friction outer loop (friction_passes) is
+// written once on top of any fixed-bounds solve.
 #include "assembly/rows.hpp"
 
 #include <Eigen/Core>
@@ -45,19 +49,12 @@ class BlcpMatrix {
   int prepare(const std::vector<char>& free) {
     if (valid_ && free == factored_) return 0;
     factored_ = free;
-    valid_ = factor(free, nullptr);
+    valid_ = factor(free);
     return valid_ ? 1 : -1;
   }
-  // Factors A_FF + diag(shift_F) (shift >= 0) for the interior-point restart; solve() then applies
-  // its inverse. Not cached: the next prepare() refactors.
-  bool prepare_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) {
-    valid_ = false;
-    return factor(free, &shift);
-  }
-
  protected:
-  // Factors A_FF (+ diag(shift_F) if shift is given); false if not numerically positive definite.
-  virtual bool factor(const std::vector<char>& free, const Eigen::VectorXd* shift) = 0;
+  // Factors A_FF; false if not numerically positive definite.
+  virtual bool factor(const std::vector<char>& free) = 0;
   // Backends whose A changes in place must call this.
   void invalidate() { valid_ = false; }
 
@@ -67,46 +64,36 @@ class BlcpMatrix {
 };
 
 struct BlcpSettings {
-  int max_iterations = 500;  // pivoting iterations per fixed-bounds solve
-  int murty_after = 3;       // iterations without fewer infeasible rows before Murty's single swaps
+  int max_iterations = 500;  // iterations (each one solve with A_FF) per fixed-bounds solve
+  int pivot_patience = 3;    // pivoting iterations without fewer infeasible rows before projected Newton
   // Feasibility tolerance, relative to s = max_j |q_j|: a clamped row is infeasible when its w has
   // the wrong sign by more than tol = tolerance * s, a free row when lambda leaves its bounds by more
-  // than tol / A_jj. tol never drops below the round-off of w = A lambda + q (64 eps max_j A_jj
-  // |lambda_j|), so that rows do not swap on noise. At convergence the scaled natural-map residual
-  // is below tol / s: 1e-12, unless redundant rows fight over an inconsistent q (lambda ~ q / sigma).
+  // than tol / A_jj or |w| > tol. tol never drops below the round-off of w = A lambda + q
+  // (64 eps max_j A_jj |lambda_j|), so that rows do not swap on noise. At convergence the scaled
+  // natural-map residual is below tol / s: 1e-12, unless redundant rows fight over an inconsistent q
+  // (lambda ~ q / sigma).
   double tolerance = 1e-12;
-  // A stall with more infeasible rows than this restarts, once per solve, from the index sets of an
-  // interior-point solve (solve/interior_point.hpp) instead of Murty's one-row-per-factorisation
-  // swaps; Murty's rule remains the safeguard that guarantees termination.
-  int murty_max_infeasible = 8;
-  int interior_point_iterations = 60;
 };
 
 struct BlcpResult {
-  int iterations = 0;      // pivoting iterations (each one solve with A_FF)
-  int factorizations = 0;  // factorisations (reused factors not counted; interior-point ones counted)
-  bool murty = false;      // Murty's rule was needed
-  bool restarted = false;  // the interior-point restart was needed
-  bool converged = false;  // false: lambda/state hold the iterate (pivoting or interior-point) of
-                           // smallest natural-map residual, projected onto the bounds
+  int iterations = 0;      // iterations (each one solve with A_FF)
+  int factorizations = 0;  // factorisations (reused factors not counted)
+  bool newton = false;     // pivoting stalled and projected Newton finished the solve
+  bool converged = false;  // false: lambda/state hold the feasible iterate of least f
 };
 
-struct InteriorPointWorkspace {
-  Eigen::VectorXd x, sl, su, zl, zu, g, dx, dzl, dzu, shift, rhs;
-  std::vector<char> free;
-};
-
-// Buffers of solve_blcp, kept across calls so that the pivoting loop does not allocate.
+// Buffers of solve_blcp, kept across calls so that the iterations do not allocate.
 struct BlcpWorkspace {
-  Eigen::VectorXd w, ax, delta, best_lambda;
+  Eigen::VectorXd w, ax, delta, x, gx, step;
   std::vector<char> free;
-  InteriorPointWorkspace interior;
 };
 
-// Solves the BLCP (A, q, lo, hi) with fixed bounds, warm started from `state` (the values of lambda
-// are not used: the sets determine the iterate). Rows with lo == hi are clamped throughout; a row
+// Solves the BLCP (A, q, lo, hi) with fixed bounds, warm started from `state` (pivoting's first
+// sets) and from the values in `lambda` (projected onto the bounds, one of the candidate starts of
+// projected Newton; non-finite values count as 0). Rows with lo == hi are clamped throughout; a row
 // never clamps at an infinite bound. On return lambda and state are the solution and its sets, and
-// ws.w = A lambda + q.
+// ws.w = A lambda + q. Not converged (iteration cap): lambda is feasible and f(lambda) <= f of the
+// projection of 0, so an unfinished solve never does more work on the bodies than no impulse.
 BlcpResult solve_blcp(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
                       Eigen::VectorXd& lambda, std::vector<RowState>& state, const BlcpSettings& settings,
                       BlcpWorkspace& ws);
@@ -146,26 +133,47 @@ inline void update_friction_bounds(const FrictionCoupling& f, const Eigen::Vecto
   }
 }
 
+// Buffers of coupled_friction_step.
+struct CoupledWorkspace {
+  Eigen::VectorXd slope, fixed, t, u, x, w, b, delta, lambda, lo, hi;
+  std::vector<char> free;
+};
+
+// Newton step on the friction fixed point (DESIGN.md §3): with the index sets of the last
+// fixed-bounds solve held, a friction row at a bound is tied to its normal row (lambda_t =
+// +-mu lambda_n) instead of to the lagged bound, and the resulting linear system (A_FF plus a rank
+// |sliding rows| term, not symmetric) is solved by GMRES preconditioned with the factor of A_FF,
+// refined against A. If that lambda satisfies the BLCP with the friction bounds of its own normal
+// impulses (within the tolerance of BlcpSettings), it is the exact coupled solution: lambda,
+// state, lo and hi are replaced and true is returned; otherwise nothing changes. Where the sets are
+// right this ends the outer loop at once; the plain fixed-point passes oscillate when redundant
+// contacts (a face on a face) shift load between points with every change of their bounds.
+bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
+                           const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
+                           const BlcpSettings& settings, CoupledWorkspace& ws);
+
 struct FrictionPassResult {
   int passes = 0;
   bool solved = true;    // every fixed-bounds solve converged
-  bool settled = false;  // the normal impulses settled within the tolerance (not the pass cap)
+  bool settled = false;  // the coupled BLCP is solved (coupled step or settled normal impulses)
 };
 
 // The friction outer loop of DESIGN.md §3, shared by every direct solver: the friction bounds are
 // fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and returns whether
 // it converged) and recomputed from the new normal impulses between passes; the first pass uses
-// the normal impulses in `lambda` on entry (the warm start). Stops after `max_passes` or when no
-// normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|; a BLCP without
-// friction rows takes one pass. `previous` is scratch.
-template <class SolveFixed>
+// the normal impulses in `lambda` on entry (the warm start). After a pass that repeats the index
+// sets of the one before, `couple()` (the solver's coupled_friction_step) may finish the loop exactly. Otherwise stops after `max_passes`
+// or when no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|;
+// a BLCP without friction rows takes one pass. `previous` is scratch.
+template <class SolveFixed, class Couple>
 FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                                    Eigen::VectorXd& lo, Eigen::VectorXd& hi, int max_passes, double tolerance,
-                                   Eigen::VectorXd& previous, SolveFixed&& solve_fixed) {
+                                   Eigen::VectorXd& previous, SolveFixed&& solve_fixed, Couple&& couple) {
   const std::vector<int>& normal_of = *f.normal_of;
   const bool has_friction = std::any_of(normal_of.begin(), normal_of.end(), [](int n) { return n >= 0; });
   FrictionPassResult result;
   previous = lambda;  // the normal impulses the bounds are taken from
+  std::vector<RowState> last_sets;
   for (int pass = 0; pass < std::max(1, max_passes); ++pass) {
     update_friction_bounds(f, previous, lo, hi, state);
     ++result.passes;
@@ -180,14 +188,16 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
       change = std::max(change, std::abs(lambda[n] - previous[n]));
       size = std::max(size, std::abs(lambda[n]));
     }
-    if (!has_friction || change <= tolerance * size) {
+    // The coupled step is tried once the sets repeat: its answer is exact only for the right sets.
+    if (!has_friction || change == 0 || change <= tolerance * size || (state == last_sets && couple())) {
       result.settled = true;
       return result;
     }
+    last_sets = state;
     // Next bounds: the new normal impulses, averaged with the previous ones after the first passes.
-    // Redundant contacts (a face on a face) share their load through the small regularisation, and
-    // per-point bounds fed straight back can then oscillate between two load shares; the average
-    // has the same fixed point and damps the oscillation.
+    // Redundant contacts share their load through the small regularisation, and per-point bounds
+    // fed straight back can then oscillate between two load shares; the average has the same
+    // fixed point and damps the oscillation.
     const double keep = pass < 2 ? 0.0 : 0.5;
     for (std::size_t j = 0; j < normal_of.size(); ++j)
       if (normal_of[j] >= 0) previous[normal_of[j]] = keep * previous[normal_of[j]] + (1 - keep) * lambda[normal_of[j]];

@@ -25,7 +25,7 @@ class DenseBlcpMatrix final : public BlcpMatrix {
   void solve(Eigen::VectorXd& x) override;
 
  protected:
-  bool factor(const std::vector<char>& free, const Eigen::VectorXd* shift) override;
+  bool factor(const std::vector<char>& free) override;
 
  private:
   Eigen::MatrixXd a_;

@@ -19,7 +19,7 @@ namespace {
 
 struct IslandOutcome {
   int iterations = 0, passes = 0, factorizations = 0;
-  bool murty = false, failed = false;
+  bool newton = false, failed = false;
   double residual = 0;
 };
 
@@ -61,17 +61,19 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
 
   BlcpSettings settings;
   settings.max_iterations = params.max_pivot_iterations;
-  settings.murty_after = params.murty_after;
+  settings.pivot_patience = params.murty_after;
   BlcpWorkspace ws;
+  CoupledWorkspace coupled;
   IslandOutcome out;
   const FrictionPassResult passes = friction_passes(
       s.coupling(), lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous, [&] {
         const BlcpResult r = solve_blcp(*a, s.q, s.lo, s.hi, lambda, state, settings, ws);
         out.iterations += r.iterations;
         out.factorizations += r.factorizations;
-        out.murty = out.murty || r.murty;
+        out.newton = out.newton || r.newton;
         return r.converged;
-      });
+      },
+      [&] { return coupled_friction_step(*a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled); });
   out.passes = passes.passes;
   out.failed = !passes.solved;
 
@@ -111,7 +113,7 @@ SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& island
     report.iterations += o.iterations;
     report.friction_passes = std::max(report.friction_passes, o.passes);
     report.factorizations += o.factorizations;
-    report.murty_islands += o.murty;
+    report.newton_islands += o.newton;
     report.failures += o.failed;
     report.residual = std::max(report.residual, o.residual);
   }

@@ -13,12 +13,12 @@ struct SolveReport {
   int iterations = 0;        // block-pivoting iterations (direct) or sweeps (PGS), summed over islands
   int friction_passes = 0;   // outer passes for the friction bounds, max over islands
   int factorizations = 0;    // matrix factorisations, summed over islands
-  int murty_islands = 0;     // islands where Murty's single-swap safeguard was needed
+  int newton_islands = 0;    // islands where pivoting stalled and projected Newton finished
   int failures = 0;          // islands whose BLCP did not converge within the caps
   double residual = 0;       // max scaled natural-map residual over all rows (DESIGN.md §3)
 };
 
-// Monolithic direct solver: block principal pivoting per island, dense Cholesky for small islands,
+// Monolithic direct solver: block principal pivoting per island (projected Newton when it stalls), dense Cholesky for small islands,
 // CHOLMOD for large ones; islands in parallel.
 SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
 

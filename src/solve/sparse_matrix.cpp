@@ -115,15 +115,12 @@ void SparseBlcpMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   }
 }
 
-bool SparseBlcpMatrix::factor(const std::vector<char>& free, const Eigen::VectorXd* shift) {
+bool SparseBlcpMatrix::factor(const std::vector<char>& free) {
   for (int c = 0; c < a_.n; ++c)
     for (int p = a_.colptr[c]; p < a_.colptr[c + 1]; ++p) {
       const int r = a_.rowind[p];
       masked_[p] = (free[r] && free[c]) || r == c ? a_.values[p] : 0.0;
     }
-  if (shift)
-    for (int c = 0; c < a_.n; ++c)
-      if (free[c]) masked_[a_.colptr[c]] += (*shift)[c];
   free_ = &free;
   return chol_->factorize();
 }
@@ -195,18 +192,15 @@ void BodySpaceBlcpMatrix::assign(const IslandSystem& s) {
 
 void BodySpaceBlcpMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) { apply_a(*s_, x, du_, y); }
 
-bool BodySpaceBlcpMatrix::factor(const std::vector<char>& free, const Eigen::VectorXd* shift) {
+bool BodySpaceBlcpMatrix::factor(const std::vector<char>& free) {
   using Block = Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>>;
   const IslandSystem& s = *s_;
-  // The diagonal part of A_FF (+ shift) is what the Woodbury form divides by.
-  if (shift) weight_ = s.sigma + *shift;
-  else weight_ = s.sigma;
   std::fill(n_.values.begin(), n_.values.end(), 0.0);
   for (int b = 0; b < s.bodies; ++b) Block(&n_.values[diag_base_[b]], 6, 6, Eigen::OuterStride<>(stride_[b])) = mass_[b];
   // N += J_j^T J_j / sigma_j for every free row j.
   for (int j = 0; j < s.rows; ++j) {
     if (!free[j]) continue;
-    const double inv_sigma = 1.0 / weight_[j];
+    const double inv_sigma = 1.0 / s.sigma[j];
     const int a = s.body[j][0], b = s.body[j][1];
     const Vec6 ja = inv_sigma * s.jac[j][0];
     Block(&n_.values[diag_base_[a]], 6, 6, Eigen::OuterStride<>(stride_[a])).noalias() += ja * s.jac[j][0].transpose();
@@ -232,13 +226,13 @@ void BodySpaceBlcpMatrix::solve(Eigen::VectorXd& x) {
   g_.setZero();
   for (int j = 0; j < s.rows; ++j) {
     if (!free[j]) continue;
-    const double xs = x[j] / weight_[j];
+    const double xs = x[j] / s.sigma[j];
     for (int slot = 0; slot < 2; ++slot)
       if (s.body[j][slot] >= 0) g_.segment<6>(6 * s.body[j][slot]) += s.jac[j][slot] * xs;
   }
   chol_->solve(g_.data());
   for (int j = 0; j < s.rows; ++j)
-    if (free[j]) x[j] = (x[j] - row_velocity(s, j, g_)) / weight_[j];
+    if (free[j]) x[j] = (x[j] - row_velocity(s, j, g_)) / s.sigma[j];
 }
 
 }  // namespace rbpart

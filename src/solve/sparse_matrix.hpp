@@ -36,7 +36,7 @@ class SparseBlcpMatrix final : public BlcpMatrix {
   void solve(Eigen::VectorXd& x) override;
 
  protected:
-  bool factor(const std::vector<char>& free, const Eigen::VectorXd* shift) override;
+  bool factor(const std::vector<char>& free) override;
 
  private:
   LowerCsc a_;
@@ -59,7 +59,7 @@ class BodySpaceBlcpMatrix final : public BlcpMatrix {
   void solve(Eigen::VectorXd& x) override;
 
  protected:
-  bool factor(const std::vector<char>& free, const Eigen::VectorXd* shift) override;
+  bool factor(const std::vector<char>& free) override;
 
  private:
   const IslandSystem* s_ = nullptr;
@@ -72,7 +72,6 @@ class BodySpaceBlcpMatrix final : public BlcpMatrix {
   std::vector<int> off_base_;             // per row with two bodies: its off-diagonal block, else -1
   std::vector<Eigen::Matrix<double, 6, 6>> mass_;  // M per body
   const std::vector<char>* free_ = nullptr;
-  Eigen::VectorXd weight_;  // sigma (+ shift) of the current factorisation
   Eigen::VectorXd g_, du_;
   std::unique_ptr<CholmodFactor> chol_;
 };

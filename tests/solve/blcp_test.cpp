@@ -226,9 +226,11 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
         Eigen::VectorXd lambda = Eigen::VectorXd::Zero(s.rows), previous, lo = s.lo, hi = s.hi;
         std::vector<RowState> state(s.rows, RowState::Free);
         BlcpWorkspace ws;
-        const FrictionPassResult fp = friction_passes(s.coupling(), lambda, state, lo, hi, 200, 1e-12, previous, [&] {
-          return solve_blcp(*m, s.q, lo, hi, lambda, state, BlcpSettings{}, ws).converged;
-        });
+        CoupledWorkspace cw;
+        const FrictionPassResult fp = friction_passes(
+            s.coupling(), lambda, state, lo, hi, 200, 1e-12, previous,
+            [&] { return solve_blcp(*m, s.q, lo, hi, lambda, state, BlcpSettings{}, ws).converged; },
+            [&] { return coupled_friction_step(*m, s.q, lo, hi, s.coupling(), lambda, state, BlcpSettings{}, cw); });
         ASSERT_TRUE(fp.solved);
         ok[index] = fp.settled;
         if (fp.settled) {
@@ -340,11 +342,11 @@ TEST(Blcp, WarmStartFromTheSolutionSetsTakesOneIteration) {
   }
 }
 
-// murty_after = 0: every iteration that does not reach a new low of infeasible rows is a single
-// Murty swap. The answers must not change, and the path must actually be taken.
-TEST(Blcp, MurtyRuleConvergesToTheSameSolution) {
+// pivot_patience = 0: projected Newton takes over at the first pivoting iteration that does not
+// reach a new low of infeasible rows. The answers must not change, and the path must be taken.
+TEST(Blcp, ProjectedNewtonAfterTheFirstStallGivesTheSameSolution) {
   std::mt19937 rng(31337);
-  int murty = 0;
+  int newton = 0;
   for (int k = 0; k < 300; ++k) {
     const DenseBlcp p = testing::random_dense_blcp(rng, 10 + k % 50);
     const std::vector<RowState> warm = random_states(rng, static_cast<int>(p.q.size()));
@@ -352,24 +354,22 @@ TEST(Blcp, MurtyRuleConvergesToTheSameSolution) {
     a.assign(p.a);
     const Solution block = run(a, p.q, p.lo, p.hi, warm);
     BlcpSettings settings;
-    settings.murty_after = 0;
-    settings.murty_max_infeasible = static_cast<int>(p.q.size());  // no interior-point restart
-    settings.max_iterations = 5000;
+    settings.pivot_patience = 0;
     const Solution single = run(a, p.q, p.lo, p.hi, warm, settings);
     ASSERT_TRUE(block.result.converged && single.result.converged);
-    murty += single.result.murty;
+    newton += single.result.newton;
     EXPECT_LE(relative_difference(single.lambda, block.lambda), 1e-9);
     EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, single.lambda), 1e-10);
   }
-  EXPECT_GT(murty, 30);
+  EXPECT_GT(newton, 30);
 }
 
-// Sliding piles with box friction: block pivoting stalls with many infeasible rows; the
-// interior-point restart must rescue it, and the answer must still be exact and match the dense one.
-TEST(Blcp, StalledPivotingIsRestartedFromInteriorPointSets) {
+// Sliding piles with box friction: block pivoting stalls with many infeasible rows; projected Newton
+// must finish, and the answer must still be exact and match the dense one.
+TEST(Blcp, StalledPivotingIsFinishedByProjectedNewton) {
   std::mt19937 rng(2718);
   RandomIsland island;
-  int restarted = 0;
+  int newton = 0;
   for (int k = 0; k < 6; ++k) {
     testing::IslandOptions opt;
     opt.rows = 300 + 60 * k;
@@ -389,13 +389,13 @@ TEST(Blcp, StalledPivotingIsRestartedFromInteriorPointSets) {
     const Solution d = run(dense, s.q, s.lo, s.hi, cold);
     const Solution b = run(body_space, s.q, s.lo, s.hi, cold);
     ASSERT_TRUE(d.result.converged && b.result.converged) << k;
-    restarted += d.result.restarted;
+    newton += d.result.newton;
     const double bound = residual_bound(s.diag, s.q, d.lambda);
     EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, d.lambda), bound) << k;
     EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, b.lambda), bound) << k;
     EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << k;
   }
-  EXPECT_GE(restarted, 3);
+  EXPECT_GE(newton, 3);
 }
 
 // The iteration cap: not converged, but the iterate is finite, admissible and consistent.
