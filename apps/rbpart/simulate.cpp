@@ -13,6 +13,7 @@
 #include "io/state_json.hpp"
 #include "io/stats_csv.hpp"
 #include "io/text_format.hpp"
+#include "graph/constraint_graph.hpp"
 
 namespace rbpart::cli {
 
@@ -77,6 +78,15 @@ int run_simulate(const Options& o) {
     std::printf("median step %.3f ms (solve %.3f ms); max penetration %.3g m; max BLCP residual %.3g; "
                 "unconverged island solves %d\n",
                 median(total_ms), median(solve_ms), max_penetration, max_residual, fallbacks);
+    const ConstraintGraph& g = world.graph();
+    int max_degree = 0, total_degree = 0;
+    for (int i = 0; i < g.node_count(); ++i) {
+      max_degree = std::max(max_degree, g.degree(i));
+      total_degree += g.degree(i);
+    }
+    std::printf("constraint graph at the last step: %d nodes, %d edges, mean degree %.2f, max degree %d\n",
+                g.node_count(), g.edge_count(), g.node_count() ? double(total_degree) / g.node_count() : 0.0,
+                max_degree);
     std::printf("state hash %016llx\n", static_cast<unsigned long long>(world.state_hash()));
   }
   return 0;

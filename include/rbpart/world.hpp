@@ -12,6 +12,7 @@ namespace rbpart {
 struct Bodies;
 struct Rows;
 struct Islands;
+struct ConstraintGraph;
 
 // Wall time of each stage of one step, named after the stage (ms).
 struct StepProfile {
@@ -56,10 +57,11 @@ class World {
   const StepParams& step_params() const;
   const SolverParams& solver_params() const;
   const Bodies& bodies() const;
-  // The last step's constraint rows (with their impulses) and islands: what the constraint graph,
-  // the partitioners and the viewer are built from.
+  // The last step's constraint rows (with their impulses), islands and constraint graph: what the
+  // partitioners and the viewer are built from.
   const Rows& rows() const;
   const Islands& islands() const;
+  const ConstraintGraph& graph() const;
   // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
   std::uint64_t state_hash() const;
 

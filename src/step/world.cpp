@@ -12,6 +12,7 @@
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
 #include "core/timer.hpp"
+#include "graph/constraint_graph.hpp"
 #include "graph/islands.hpp"
 #include "integrate/integrate.hpp"
 #include "integrate/joint_projection.hpp"
@@ -36,6 +37,7 @@ struct World::Impl {
   WarmStart warm;
   JointProjection joint_projection;
   Islands islands;
+  ConstraintGraph graph_;
   StepStats stats;
   int steps = 0;
 
@@ -102,7 +104,10 @@ struct World::Impl {
     assemble_rows(contacts, joints, bodies, sliding_v, sliding_w, step_params, scene.dt, warm, rows);
   }
 
-  void graph() { build_islands(rows, bodies.size(), islands); }
+  void graph() {
+    build_islands(rows, bodies.size(), islands);
+    build_constraint_graph(rows, bodies, graph_);
+  }
 
   SolveReport solve() {
     return solver_params.kind == SolverKind::Pgs ? solve_pgs(rows, bodies, islands, solver_params)
@@ -184,6 +189,7 @@ const SolverParams& World::solver_params() const { return impl_->solver_params; 
 const Bodies& World::bodies() const { return impl_->bodies; }
 const Rows& World::rows() const { return impl_->rows; }
 const Islands& World::islands() const { return impl_->islands; }
+const ConstraintGraph& World::graph() const { return impl_->graph_; }
 
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;
