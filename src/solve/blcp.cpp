@@ -1,5 +1,7 @@
 #include "solve/blcp.hpp"
 
+#include <Eigen/LU>
+
 #include <limits>
 
 namespace rbpart {
@@ -21,6 +23,10 @@ constexpr double kRoundoffFactor = 64;
 // Armijo's sufficient-decrease fraction and the step halvings tried along the projected path.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 60;
+// Pivoting iterations of the coupled friction problem, and the rounds (one solve, then refinement)
+// of each of its linear solves.
+constexpr int kMaxCoupledPivots = 30;
+constexpr int kCoupledRefinements = 3;
 
 
 double clamp_row(double v, double lo, double hi) { return std::clamp(v, lo, std::max(lo, hi)); }
@@ -277,65 +283,6 @@ BlcpResult solve_blcp(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vect
 
 namespace rbpart {
 
-namespace {
-
-// Restarted GMRES for y = op(x) on the rows with mask[j] != 0 (other entries stay 0), from x = 0.
-// Stops at |r| <= rel_tol |b| or after max_iterations applications of op.
-template <class Op>
-void gmres(Op&& op, const Eigen::VectorXd& b, const std::vector<char>& mask, Eigen::VectorXd& x, int restart,
-           int max_iterations, double rel_tol) {
-  const Eigen::Index n = b.size();
-  x.setZero(n);
-  const double b_norm = b.norm();
-  if (b_norm == 0) return;
-  Eigen::MatrixXd v(n, restart + 1), h = Eigen::MatrixXd::Zero(restart + 1, restart);
-  Eigen::VectorXd cs(restart), sn(restart), e(restart + 1), r(n), y;
-  int used = 0;
-  while (used < max_iterations) {
-    op(x, r);
-    r = b - r;
-    double beta = r.norm();
-    if (beta <= rel_tol * b_norm) return;
-    v.col(0) = r / beta;
-    e.setZero();
-    e[0] = beta;
-    int k = 0;
-    for (; k < restart && used < max_iterations; ++k, ++used) {
-      Eigen::VectorXd w(n);
-      op(v.col(k), w);
-      for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
-        h(i, k) = v.col(i).dot(w);
-        w -= h(i, k) * v.col(i);
-      }
-      h(k + 1, k) = w.norm();
-      if (h(k + 1, k) > 0) v.col(k + 1) = w / h(k + 1, k);
-      for (int i = 0; i < k; ++i) {
-        const double t = cs[i] * h(i, k) + sn[i] * h(i + 1, k);
-        h(i + 1, k) = -sn[i] * h(i, k) + cs[i] * h(i + 1, k);
-        h(i, k) = t;
-      }
-      const double d = std::hypot(h(k, k), h(k + 1, k));
-      cs[k] = h(k, k) / d;
-      sn[k] = h(k + 1, k) / d;
-      h(k, k) = d;
-      h(k + 1, k) = 0;
-      e[k + 1] = -sn[k] * e[k];
-      e[k] = cs[k] * e[k];
-      if (std::abs(e[k + 1]) <= rel_tol * b_norm || h(k + 1, k) == 0) {
-        ++k;
-        ++used;
-        break;
-      }
-    }
-    y = h.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(e.head(k));
-    x += v.leftCols(k) * y;
-    for (Eigen::Index j = 0; j < n; ++j)
-      if (!mask[j]) x[j] = 0;
-  }
-}
-
-}  // namespace
-
 bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& cw) {
@@ -344,63 +291,157 @@ bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::Vecto
   const std::vector<int>& normal_of = *f.normal_of;
   const std::vector<double>& mu = *f.mu;
   const Eigen::VectorXd& diag = A.diagonal();
+  const double scale = std::max(max_abs(q), kMinScale);
+  auto is_friction = [&](int j) { return normal_of[j] >= 0; };
+  // Working sets of the coupled problem. A friction row whose box was closed starts sticking (its
+  // normal may open it); its state only matters while its normal row is free.
+  cw.sets = state;
+  for (int j = 0; j < n; ++j)
+    if (is_friction(j) && !(lo[j] < hi[j])) cw.sets[j] = RowState::Free;
   cw.free.assign(n, 0);
-  cw.slope.setZero(n);  // +-mu for sliding friction rows, 0 elsewhere
-  cw.fixed.setZero(n);  // values of the clamped rows
-  for (int j = 0; j < n; ++j) {
-    const int nj = normal_of[j];
-    if (nj >= 0) {
-      const bool normal_free = state[nj] == RowState::Free;
-      if (!normal_free) continue;  // its normal impulse is 0: the friction row is held at 0
-      if (state[j] == RowState::Free || !(lo[j] < hi[j])) cw.free[j] = 1;  // sticking (or newly loaded)
-      else cw.slope[j] = state[j] == RowState::Upper ? mu[j] : -mu[j];
-      continue;
-    }
-    if (state[j] == RowState::Free) cw.free[j] = 1;
-    else cw.fixed[j] = state[j] == RowState::Upper ? hi[j] : lo[j];
-  }
-  if (A.prepare(cw.free) < 0) return false;
-  // op(x) = x_F + A_FF^-1 (A t)_F, t_s = slope_s x[normal_of[s]]: the free rows' equations with the
-  // sliding rows substituted, preconditioned by the factor of A_FF (identity plus a rank |S| term).
-  auto op = [&](const auto& x, Eigen::VectorXd& y) {
-    for (int j = 0; j < n; ++j) cw.t[j] = cw.slope[j] != 0 ? cw.slope[j] * x[normal_of[j]] : 0.0;
-    A.multiply(cw.t, cw.u);
-    for (int j = 0; j < n; ++j) cw.u[j] = cw.free[j] ? cw.u[j] : 0.0;
-    A.solve(cw.u);
-    for (int j = 0; j < n; ++j) y[j] = cw.free[j] ? x[j] + cw.u[j] : 0.0;
-  };
+  cw.slope.setZero(n);
+  cw.fixed.setZero(n);
   cw.t.resize(n);
   cw.u.resize(n);
-  cw.x.setZero(n);
+  cw.x.resize(n);
   cw.w.resize(n);
   cw.b.resize(n);
+  cw.lambda.resize(n);
   auto assemble = [&](Eigen::VectorXd& out) {  // lambda from the free values in cw.x
     for (int j = 0; j < n; ++j)
       out[j] = cw.free[j] ? cw.x[j] : cw.slope[j] != 0 ? cw.slope[j] * cw.x[normal_of[j]] : cw.fixed[j];
   };
-  cw.lambda.resize(n);
-  constexpr int kRounds = 3;
-  for (int round = 0; round < kRounds; ++round) {
+  double tol = settings.tolerance * scale;
+  // > 0: row j violates the coupled BLCP for the current sets, in units of w. A sliding row is on
+  // its bound by construction and needs the sign of w that pushes it there; a sticking row must
+  // stay inside +-mu lambda_n of its own normal; a friction row of a clamped normal is 0.
+  auto violation = [&](int j) {
+    const double l = cw.lambda[j], w = cw.w[j];
+    double low = lo[j], high = hi[j];
+    if (is_friction(j)) {
+      if (cw.sets[normal_of[j]] != RowState::Free) return 0.0;
+      high = mu[j] * std::max(0.0, cw.lambda[normal_of[j]]);
+      low = -high;
+    } else if (!(low < high)) {
+      return 0.0;
+    }
+    switch (cw.sets[j]) {
+      case RowState::Free: return std::max(low - l, l - high) * diag[j];
+      case RowState::Lower: return -w;
+      case RowState::Upper: return w;
+    }
+    return 0.0;
+  };
+
+  auto swap = [&](int j) {
+    if (cw.sets[j] != RowState::Free) cw.sets[j] = RowState::Free;
+    else if (is_friction(j)) cw.sets[j] = cw.lambda[j] > 0 ? RowState::Upper : RowState::Lower;
+    else cw.sets[j] = cw.lambda[j] < lo[j] ? RowState::Lower : RowState::Upper;
+  };
+  // Block principal pivoting on the coupled problem (DESIGN.md §3): every row that violates its
+  // conditions swaps, while the count of violating rows keeps reaching new lows.
+  int fewest = n + 1, patience = settings.pivot_patience;
+  bool solved = false;
+  for (int iteration = 0; iteration < kMaxCoupledPivots; ++iteration) {
+    for (int j = 0; j < n; ++j) {
+      cw.free[j] = 0;
+      cw.slope[j] = 0;
+      cw.fixed[j] = 0;
+      if (is_friction(j)) {
+        if (cw.sets[normal_of[j]] != RowState::Free) continue;  // its normal impulse is 0: held at 0
+        if (cw.sets[j] == RowState::Free) cw.free[j] = 1;
+        else cw.slope[j] = cw.sets[j] == RowState::Upper ? mu[j] : -mu[j];
+      } else if (cw.sets[j] == RowState::Free) {
+        cw.free[j] = 1;
+      } else {
+        cw.fixed[j] = cw.sets[j] == RowState::Upper ? hi[j] : lo[j];
+      }
+    }
+    const int factored = A.prepare(cw.free);
+    if (factored < 0) return false;
+    cw.factorizations += factored;
+    // The free rows' equations with the sliding rows substituted: (I + Z E) x_F = A_FF^-1 b_F,
+    // where E picks the k normal rows that carry sliding friction and column c of Z is
+    // A_FF^-1 (A g_c)_F, g_c = sum of slope_s e_s over the sliding rows s of normal c. Woodbury
+    // with the k x k capacitance I + E Z solves it exactly with k + 1 solves on the factor.
+    cw.normals.clear();
+    for (int j = 0; j < n; ++j)
+      if (cw.slope[j] != 0 && (cw.normals.empty() || cw.normals.back() != normal_of[j]))
+        cw.normals.push_back(normal_of[j]);
+    std::sort(cw.normals.begin(), cw.normals.end());
+    cw.normals.erase(std::unique(cw.normals.begin(), cw.normals.end()), cw.normals.end());
+    const int k = static_cast<int>(cw.normals.size());
+    cw.z.resize(n, k);
+    for (int c = 0; c < k; ++c) {
+      for (int j = 0; j < n; ++j) cw.t[j] = cw.slope[j] != 0 && normal_of[j] == cw.normals[c] ? cw.slope[j] : 0.0;
+      A.multiply(cw.t, cw.u);
+      for (int j = 0; j < n; ++j) cw.u[j] = cw.free[j] ? cw.u[j] : 0.0;
+      A.solve(cw.u);
+      cw.z.col(c) = cw.u;
+    }
+    cw.capacitance.setIdentity(k, k);
+    for (int r = 0; r < k; ++r) cw.capacitance.row(r) += cw.z.row(cw.normals[r]);
+    cw.lu.compute(cw.capacitance);
+    // Refined against A: the first round solves from lambda_F = 0, later ones correct round-off.
+    cw.x.setZero();
+    for (int round = 0; round < kCoupledRefinements; ++round) {
+      assemble(cw.lambda);
+      A.multiply(cw.lambda, cw.w);
+      cw.w += q;
+      for (int j = 0; j < n; ++j) cw.b[j] = cw.free[j] ? -cw.w[j] : 0.0;
+      A.solve(cw.b);
+      if (k > 0) {
+        cw.y.resize(k);
+        for (int c = 0; c < k; ++c) cw.y[c] = cw.b[cw.normals[c]];
+        cw.b -= cw.z * cw.lu.solve(cw.y);
+      }
+      for (int j = 0; j < n; ++j)
+        if (cw.free[j]) cw.x[j] += cw.b[j];
+    }
     assemble(cw.lambda);
     A.multiply(cw.lambda, cw.w);
     cw.w += q;
-    for (int j = 0; j < n; ++j) cw.b[j] = cw.free[j] ? -cw.w[j] : 0.0;
-    A.solve(cw.b);
-    gmres(op, cw.b, cw.free, cw.delta, std::min(n, 60), 4 * n + 60, 1e-14);
-    cw.x += cw.delta;
+    if (!cw.lambda.allFinite() || !cw.w.allFinite()) return false;
+    double terms = 0;
+    for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(cw.lambda[j]) * diag[j]);
+    tol = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
+    int count = 0;
+    for (int j = 0; j < n; ++j) count += violation(j) > tol;
+    if (count == 0) {
+      solved = true;
+      break;
+    }
+    if (count < fewest) {
+      fewest = count;
+      patience = settings.pivot_patience;
+    } else if (patience > 0) {
+      --patience;
+    }
+    // Block swaps while they make progress. Once they stall (block pivoting can cycle), one row
+    // swaps per iteration, the first violating friction row if any, else the first violating
+    // row: a normal row that opens under a sticking guess goes negative, and closing it again
+    // would undo the swap, whereas letting its friction slide resolves it.
+    if (patience > 0) {
+      for (int j = 0; j < n; ++j)
+        if (violation(j) > tol) swap(j);
+      continue;
+    }
+    int first = -1;
+    for (int j = 0; j < n; ++j) {
+      if (violation(j) <= tol) continue;
+      if (is_friction(j)) {
+        first = j;
+        break;
+      }
+      if (first < 0) first = j;
+    }
+    swap(first);
   }
-  assemble(cw.lambda);
-  A.multiply(cw.lambda, cw.w);
-  cw.w += q;
-  if (!cw.lambda.allFinite() || !cw.w.allFinite()) return false;
+  if (!solved) return false;
   // Accept only an exact solution of the coupled BLCP: bounds from its own normal impulses.
   cw.lo = lo;
   cw.hi = hi;
   set_friction_bounds(f, cw.lambda, cw.lo, cw.hi);
-  const double scale = std::max(max_abs(q), kMinScale);
-  double terms = 0;
-  for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(cw.lambda[j]) * diag[j]);
-  const double tol = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
   for (int j = 0; j < n; ++j) {
     const double l = cw.lambda[j], w = cw.w[j];
     if (cw.free[j]) {

@@ -15,6 +15,7 @@
 #include "assembly/rows.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -135,19 +136,27 @@ inline void update_friction_bounds(const FrictionCoupling& f, const Eigen::Vecto
 
 // Buffers of coupled_friction_step.
 struct CoupledWorkspace {
-  Eigen::VectorXd slope, fixed, t, u, x, w, b, delta, lambda, lo, hi;
+  Eigen::VectorXd slope, fixed, t, u, x, w, b, y, lambda, lo, hi;
+  Eigen::MatrixXd z, capacitance;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   std::vector<char> free;
+  std::vector<int> normals;
+  std::vector<RowState> sets;
+  int factorizations = 0;  // factorisations over all calls (reused factors not counted)
 };
 
-// Newton step on the friction fixed point (DESIGN.md §3): with the index sets of the last
-// fixed-bounds solve held, a friction row at a bound is tied to its normal row (lambda_t =
-// +-mu lambda_n) instead of to the lagged bound, and the resulting linear system (A_FF plus a rank
-// |sliding rows| term, not symmetric) is solved by GMRES preconditioned with the factor of A_FF,
-// refined against A. If that lambda satisfies the BLCP with the friction bounds of its own normal
-// impulses (within the tolerance of BlcpSettings), it is the exact coupled solution: lambda,
-// state, lo and hi are replaced and true is returned; otherwise nothing changes. Where the sets are
-// right this ends the outer loop at once; the plain fixed-point passes oscillate when redundant
-// contacts (a face on a face) shift load between points with every change of their bounds.
+// Exact solve of the coupled friction BLCP (DESIGN.md §3) by block principal pivoting on it, from
+// the index sets of the last fixed-bounds solve: a sliding friction row is tied to its normal row
+// (lambda_t = +-mu lambda_n) instead of to a lagged bound, and each iteration solves the resulting
+// linear system (A_FF plus a term of rank k = the normals with sliding rows, not symmetric)
+// exactly, by Woodbury on the factor of A_FF with a dense k x k capacitance, refined against A.
+// Rows whose conditions fail then swap: a sticking row outside +-mu lambda_n slides, a sliding row
+// whose w does not push it onto its bound sticks, other rows by the usual rule. If the sets settle
+// within a few iterations and the answer satisfies the BLCP with the friction bounds of its own
+// normal impulses (within the tolerance of BlcpSettings), lambda, state, lo and hi are replaced and
+// true is returned; otherwise nothing changes. The plain fixed-point passes oscillate where
+// redundant contacts (a face on a face) shift load between points with every change of their
+// bounds; the coupled problem has no lagged bounds to chase.
 bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& ws);
@@ -161,9 +170,9 @@ struct FrictionPassResult {
 // The friction outer loop of DESIGN.md §3, shared by every direct solver: the friction bounds are
 // fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and returns whether
 // it converged) and recomputed from the new normal impulses between passes; the first pass uses
-// the normal impulses in `lambda` on entry (the warm start). After a pass that repeats the index
-// sets of the one before, `couple()` (the solver's coupled_friction_step) may finish the loop exactly. Otherwise stops after `max_passes`
-// or when no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|;
+// the normal impulses in `lambda` on entry (the warm start). After every pass, `couple()` (the
+// solver's coupled_friction_step, from that pass's sets) may finish the loop exactly. Otherwise
+// stops after `max_passes` or when no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|;
 // a BLCP without friction rows takes one pass. `previous` is scratch.
 template <class SolveFixed, class Couple>
 FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
@@ -173,7 +182,6 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
   const bool has_friction = std::any_of(normal_of.begin(), normal_of.end(), [](int n) { return n >= 0; });
   FrictionPassResult result;
   previous = lambda;  // the normal impulses the bounds are taken from
-  std::vector<RowState> last_sets;
   for (int pass = 0; pass < std::max(1, max_passes); ++pass) {
     update_friction_bounds(f, previous, lo, hi, state);
     ++result.passes;
@@ -188,12 +196,12 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
       change = std::max(change, std::abs(lambda[n] - previous[n]));
       size = std::max(size, std::abs(lambda[n]));
     }
-    // The coupled step is tried once the sets repeat: its answer is exact only for the right sets.
-    if (!has_friction || change == 0 || change <= tolerance * size || (state == last_sets && couple())) {
+    // The coupled solve starts from this pass's sets, which the lagged bounds usually got right or
+    // nearly so; it also polishes a pass that met the tolerance into an exact answer.
+    if (!has_friction || change == 0 || couple() || change <= tolerance * size) {
       result.settled = true;
       return result;
     }
-    last_sets = state;
     // Next bounds: the new normal impulses, averaged with the previous ones after the first passes.
     // Redundant contacts share their load through the small regularisation, and per-point bounds
     // fed straight back can then oscillate between two load shares; the average has the same

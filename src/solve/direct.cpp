@@ -75,6 +75,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
       },
       [&] { return coupled_friction_step(*a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled); });
   out.passes = passes.passes;
+  out.factorizations += coupled.factorizations;
   out.failed = !passes.solved;
 
   // Write back the solution, its sets and the friction bounds it is exact for.
@@ -85,8 +86,11 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
     rows.lo[g] = s.lo[r];
     rows.hi[g] = s.hi[r];
   }
-  // Quality with the friction bounds of the final normal impulses (ws.w = A lambda + q).
+  // Quality with the friction bounds of the final normal impulses; w afresh, as the coupled step
+  // may have replaced the last fixed-bounds solve's lambda.
   set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
+  a->multiply(lambda, ws.w);
+  ws.w += s.q;
   out.residual = scaled_natural_map_residual(lambda, ws.w, s.diag, s.lo, s.hi, s.q);
   return out;
 }
