@@ -5,7 +5,7 @@
 
 namespace rbpart {
 
-enum class SolverKind { Direct, Pgs };
+enum class SolverKind { Direct, Pgs, Substructured };
 
 struct StepParams {
   // Stabilisation (DESIGN.md §2): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.
@@ -36,7 +36,29 @@ struct SolverParams {
   // PGS (the iterative baseline).
   int pgs_iterations = 100;
   double pgs_tolerance = 1e-8;     // stop when the largest impulse change (scaled) falls below
+  // Substructured (DESIGN.md §7): interface/sub-system iterations per BLCP before the counted
+  // fallback to the monolithic solve of the island.
+  int substructured_max_iterations = 30;
   int threads = 0;                 // 0: all hardware threads
+};
+
+// Partitioners and refiners (DESIGN.md §5-6). Partitioner None: no partition is made (the monolithic
+// solvers' parts are the islands); any other partitioner runs every step, for the substructured
+// solver or only to report its quality beside a monolithic solve.
+enum class PartitionerKind { None, Bfs, MinDp, MaxDp, Mr, Mix, Metis };
+// FmRollback is classic Fiduccia-Mattheyses (non-positive moves taken, best prefix kept), an
+// extension beyond the paper's greedy KL and FM.
+enum class RefinerKind { None, Kl, Fm, FmRollback };
+
+struct PartitionParams {
+  PartitionerKind partitioner = PartitionerKind::None;
+  RefinerKind refiner = RefinerKind::None;
+  int nmax = 32;          // most bodies in one sub-system
+  double tau_mr = 10;     // MR: a body joins only if the part's mass ratio stays below this
+  double tau_mix = 0.5;   // MIX: MinDP growth up to tau_mix * nmax bodies, then max-gain growth
+  // Recompute gains and cut from scratch after every refinement move and check the partition's
+  // properties (DESIGN.md §5) after every step; slow, for tests and debugging.
+  bool debug_checks = false;
 };
 
 }  // namespace rbpart

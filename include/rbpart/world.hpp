@@ -13,6 +13,7 @@ struct Bodies;
 struct Rows;
 struct Islands;
 struct ConstraintGraph;
+struct Partition;
 
 // Wall time of each stage of one step, named after the stage (ms).
 struct StepProfile {
@@ -62,6 +63,9 @@ class World {
   const Rows& rows() const;
   const Islands& islands() const;
   const ConstraintGraph& graph() const;
+  // The last step's sub-systems: part id per graph node. The islands for the monolithic solvers
+  // without a partitioner; the partitioned and refined parts otherwise.
+  const Partition& partition() const;
   // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
   std::uint64_t state_hash() const;
 

@@ -10,6 +10,7 @@ const char* solver_name(SolverKind kind) {
   switch (kind) {
     case SolverKind::Direct: return "direct";
     case SolverKind::Pgs: return "pgs";
+    case SolverKind::Substructured: return "substructured";
   }
   return "unknown";
 }
@@ -35,6 +36,7 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"friction_tolerance", real(solver.friction_tolerance)},
       {"pgs_iterations", integer(solver.pgs_iterations)},
       {"pgs_tolerance", real(solver.pgs_tolerance)},
+      {"substructured_max_iterations", integer(solver.substructured_max_iterations)},
       {"threads", integer(solver.threads)},
   };
 }

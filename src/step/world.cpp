@@ -16,6 +16,7 @@
 #include "graph/islands.hpp"
 #include "integrate/integrate.hpp"
 #include "integrate/joint_projection.hpp"
+#include "partition/partition.hpp"
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
 #include "solve/solve.hpp"
@@ -38,6 +39,7 @@ struct World::Impl {
   JointProjection joint_projection;
   Islands islands;
   ConstraintGraph graph_;
+  Partition partition_;
   StepStats stats;
   int steps = 0;
 
@@ -107,6 +109,7 @@ struct World::Impl {
   void graph() {
     build_islands(rows, bodies.size(), islands);
     build_constraint_graph(rows, bodies, graph_);
+    partition_by_islands(graph_, islands, partition_);
   }
 
   SolveReport solve() {
@@ -190,6 +193,7 @@ const Bodies& World::bodies() const { return impl_->bodies; }
 const Rows& World::rows() const { return impl_->rows; }
 const Islands& World::islands() const { return impl_->islands; }
 const ConstraintGraph& World::graph() const { return impl_->graph_; }
+const Partition& World::partition() const { return impl_->partition_; }
 
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;

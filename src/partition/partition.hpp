@@ -1,0 +1,60 @@
+#pragma once
+// Partitions of the constraint graph into sub-systems (DESIGN.md §5) and their refinement (§6).
+// A partition gives every graph node (dynamic body) a part id. Every partitioner and refiner
+// returns partitions whose parts are disjoint, cover all nodes, are connected in the graph, hold at
+// most nmax nodes and lie within one island; ids are 0..part_count-1, numbered in the order the
+// parts were made; the result depends only on the graph and the parameters (ties go to the lowest
+// node index).
+#include <rbpart/params.hpp>
+
+#include <string>
+#include <vector>
+
+#include "graph/constraint_graph.hpp"
+#include "graph/islands.hpp"
+
+namespace rbpart {
+
+struct Partition {
+  std::vector<int> part_of;  // node -> part id
+  int part_count = 0;
+};
+
+// Quality of a partition (issue #4's report; DESIGN.md §9 stats columns).
+struct PartitionQuality {
+  int parts = 0;
+  int min_bodies = 0, max_bodies = 0;  // bodies per part
+  double mean_bodies = 0;
+  int edge_cut = 0;          // constraints (edge weights) between different parts
+  int interface_rows = 0;    // rows between different parts (the size of the Schur complement S)
+  int interface_bodies = 0;  // nodes with an edge into another part
+  double partition_ms = 0, refine_ms = 0;
+};
+
+// The monolithic solvers' parts: one per island (graph nodes without rows: one part each), numbered
+// in increasing order of their lowest node.
+void partition_by_islands(const ConstraintGraph& graph, const Islands& islands, Partition& partition);
+
+// Partitions `graph` with params.partitioner (not None). Islands of at most nmax nodes become one
+// part each whatever the partitioner (DESIGN.md §4); isolated nodes are parts of their own.
+void partition_graph(const ConstraintGraph& graph, const PartitionParams& params, Partition& partition);
+
+// Refines `partition` in place with params.refiner (None: no change). Never raises the edge cut and
+// keeps every property above.
+void refine_partition(const ConstraintGraph& graph, const PartitionParams& params, Partition& partition);
+
+// Parts, sizes, cut, interface rows and bodies (times left 0: the caller measures them).
+PartitionQuality measure_partition(const ConstraintGraph& graph, const Partition& partition);
+
+// Checks the properties above (cover, disjoint ids in range, connected parts, at most nmax nodes,
+// no empty part); returns "" or the first violation, in words.
+std::string check_partition(const ConstraintGraph& graph, const Partition& partition, int nmax);
+
+// Names as the CLI spells them: bfs mindp maxdp mr mix metis (none); none kl fm fm-rollback.
+const char* partitioner_name(PartitionerKind kind);
+const char* refiner_name(RefinerKind kind);
+// Throws InputError naming the valid choices on an unknown name.
+PartitionerKind parse_partitioner(const std::string& name);
+RefinerKind parse_refiner(const std::string& name);
+
+}  // namespace rbpart
