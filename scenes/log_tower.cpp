@@ -15,7 +15,14 @@ SceneDef make_log_tower(const SceneParameters& p) {
   const int layers = std::max(1, static_cast<int>(p.at("layers")));
   const int logs = std::max(1, static_cast<int>(p.at("logs")));
   const double r = p.at("radius"), half = p.at("half_length"), span = 0.8 * half;
-  const double log_mass = p.at("density") * M_PI * r * r * (2 * half + 4.0 / 3.0 * r);
+  // Round logs (capsules) make the crib a mechanism: a log rolling between the layers above and below
+  // shears the tower at no cost in potential energy, and rigid point contacts have no rolling
+  // resistance, so any asymmetry under the block grows until the tower falls (measured: it collapses
+  // within 60 steps even when the block is set down gently). Square-hewn logs (boxes of side 2r,
+  // the default) rest face on face and stand or shake as a crib of notched logs does.
+  const bool round = p.at("round") != 0;
+  const double log_mass = round ? p.at("density") * M_PI * r * r * (2 * half + 4.0 / 3.0 * r)
+                                : p.at("density") * 8 * r * r * (half + r);
   const Quat along_x = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
   const Quat along_y = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitY());
   for (int layer = 0; layer < layers; ++layer) {
@@ -24,9 +31,14 @@ SceneDef make_log_tower(const SceneParameters& p) {
       const double offset = logs == 1 ? 0 : -span + 2 * span * k / (logs - 1);
       BodyDef b;
       b.name = "log" + std::to_string(layer) + "_" + std::to_string(k);
-      b.shape.type = ShapeType::Capsule;
-      b.shape.radius = r;
-      b.shape.half_length = half;
+      if (round) {
+        b.shape.type = ShapeType::Capsule;
+        b.shape.radius = r;
+        b.shape.half_length = half;
+      } else {
+        b.shape.type = ShapeType::Box;
+        b.shape.half_extents = {r, r, half + r};  // long axis = body z, as the capsule's
+      }
       b.density = p.at("density");
       b.position = x_layer ? Vec3(0, offset, r + 2 * r * layer) : Vec3(offset, 0, r + 2 * r * layer);
       b.orientation = x_layer ? along_x : along_y;
@@ -49,10 +61,11 @@ SceneDef make_log_tower(const SceneParameters& p) {
 
 SceneInfo log_tower_scene() {
   return {"log_tower",
-          "crib tower of capsule logs, layers turned 90 degrees, a heavy block dropped on top",
+          "crib tower of square-hewn (or round) logs, layers turned 90 degrees, a heavy block dropped on top",
           {{"layers", 16, "number of layers"},
            {"logs", 3, "logs per layer"},
-           {"radius", 0.08, "log radius (m)"},
+           {"round", 0, "1: round logs (capsules), 0: square-hewn logs (boxes of side 2 radius)"},
+           {"radius", 0.08, "log radius, or half side of a square log (m)"},
            {"half_length", 0.5, "log half length without caps (m)"},
            {"density", 600, "log density (kg/m^3)"},
            {"block_ratio", 30, "block mass / log mass"},

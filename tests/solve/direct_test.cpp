@@ -24,27 +24,34 @@ struct Scene {
   std::vector<Vec6> free_velocity;  // u* per body
 };
 
-// A cube of half extent a and mass m at body index `body`, resting on static ground (z = 0) with
-// its four bottom corners as contacts (normal + two friction rows each), moving with velocity
-// (vx, 0, -g h) before contact (gravity applied: u* = u + h g).
-void add_box(Scene& s, double m, double a, double vx, double mu) {
+// A cube of half extent a and mass m resting face-down on static ground (z = 0, below = -1) or on
+// the cube `below` (same half extent), the four corners of the contact face as contacts (normal +
+// two friction rows each; relative velocity top minus below), moving with velocity
+// (vx, vy, -g h) and spin wz about z before contact (gravity applied: u* = u + h g).
+void add_box_on(Scene& s, int below, double m, double a, double vx, double mu, double vy = 0, double wz = 0) {
   const int body = static_cast<int>(s.bodies.inv_mass.size());
   const double inertia = m / 3 * (2 * a * a);
   s.bodies.inv_mass.push_back(1 / m);
   s.bodies.inv_inertia.push_back(Mat3::Identity() / inertia);
-  s.bodies.x.push_back(Vec3(3.0 * body, 0, a));
+  s.bodies.x.push_back(below < 0 ? Vec3(3.0 * body, 0, a) : Vec3(s.bodies.x[below] + Vec3(0, 0, 2 * a)));
   Vec6 u;
-  u << vx, 0, -kGravity * kStep, 0, 0, 0;
+  u << vx, vy, -kGravity * kStep, 0, 0, wz;
   s.free_velocity.push_back(u);
   for (double cx : {-a, a})
     for (double cy : {-a, a}) {
-      const Vec3 r(cx, cy, -a);  // corner relative to the centre of mass
+      const Vec3 r(cx, cy, -a), r_below(cx, cy, a);
       const auto row = [&](RowKind kind, const Vec3& dir) {
-        const int j = s.rows.add(kind, body, -1, s.rows.size());
+        const int j = s.rows.add(kind, body, below, s.rows.size());
         s.rows.jac[j][0] << dir, r.cross(dir);
-        const double jmj = dir.squaredNorm() / m + r.cross(dir).squaredNorm() / inertia;
-        s.rows.sigma[j] = 1e-6 * jmj;
+        double jmj = dir.squaredNorm() / m + r.cross(dir).squaredNorm() / inertia;
         s.rows.q[j] = s.rows.jac[j][0].dot(u);
+        if (below >= 0) {
+          s.rows.jac[j][1] << -dir, -r_below.cross(dir);
+          jmj += dir.squaredNorm() * s.bodies.inv_mass[below] +
+                 r_below.cross(dir).squaredNorm() * s.bodies.inv_inertia[below](0, 0);
+          s.rows.q[j] += s.rows.jac[j][1].dot(s.free_velocity[below]);
+        }
+        s.rows.sigma[j] = 1e-6 * jmj;
         return j;
       };
       const int n = row(RowKind::Normal, Vec3::UnitZ());
@@ -56,40 +63,7 @@ void add_box(Scene& s, double m, double a, double vx, double mu) {
     }
 }
 
-// A cube of half extent a and mass m resting face-down on the cube `below` (same half extent),
-// the four corners of the contact face as two-body contacts (relative velocity top minus below),
-// pushed along x with velocity vx before contact.
-void add_stacked_box(Scene& s, int below, double m, double a, double vx, double mu, double vy = 0, double wz = 0) {
-  const int body = static_cast<int>(s.bodies.inv_mass.size());
-  const double inertia = m / 3 * (2 * a * a);
-  const double m_below = 1 / s.bodies.inv_mass[below], inertia_below = 1 / s.bodies.inv_inertia[below](0, 0);
-  s.bodies.inv_mass.push_back(1 / m);
-  s.bodies.inv_inertia.push_back(Mat3::Identity() / inertia);
-  s.bodies.x.push_back(s.bodies.x[below] + Vec3(0, 0, 2 * a));
-  Vec6 u;
-  u << vx, vy, -kGravity * kStep, 0, 0, wz;
-  s.free_velocity.push_back(u);
-  for (double cx : {-a, a})
-    for (double cy : {-a, a}) {
-      const Vec3 r(cx, cy, -a), r_below(cx, cy, a);
-      const auto row = [&](RowKind kind, const Vec3& dir) {
-        const int j = s.rows.add(kind, body, below, s.rows.size());
-        s.rows.jac[j][0] << dir, r.cross(dir);
-        s.rows.jac[j][1] << -dir, -r_below.cross(dir);
-        const double jmj = dir.squaredNorm() / m + r.cross(dir).squaredNorm() / inertia +
-                           dir.squaredNorm() / m_below + r_below.cross(dir).squaredNorm() / inertia_below;
-        s.rows.sigma[j] = 1e-6 * jmj;
-        s.rows.q[j] = s.rows.jac[j][0].dot(u) + s.rows.jac[j][1].dot(s.free_velocity[below]);
-        return j;
-      };
-      const int n = row(RowKind::Normal, Vec3::UnitZ());
-      for (const Vec3& t : {Vec3(Vec3::UnitX()), Vec3(Vec3::UnitY())}) {
-        const int f = row(RowKind::Friction, t);
-        s.rows.normal_of[f] = n;
-        s.rows.mu[f] = mu;
-      }
-    }
-}
+void add_box(Scene& s, double m, double a, double vx, double mu) { add_box_on(s, -1, m, a, vx, mu); }
 
 void finish(Scene& s) { build_islands(s.rows, static_cast<int>(s.bodies.inv_mass.size()), s.islands); }
 
@@ -202,7 +176,7 @@ TEST(FrictionPasses, CoupledPivotingSolvesARedundantStackTheLaggedLoopDoesNot) {
   Scene s;
   const double m_top = 10.0, mu_top = 0.4, a = 0.5;
   add_box(s, 5.0, a, 0.0, 0.8);
-  add_stacked_box(s, 0, m_top, a, 1.5, mu_top, 0.0, 1.0);
+  add_box_on(s, 0, m_top, a, 1.5, mu_top, 0.0, 1.0);
   finish(s);
   ASSERT_EQ(s.islands.count(), 1u);
   const std::vector<int> local_row = local_row_index(s.rows, s.islands);
