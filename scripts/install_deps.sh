@@ -5,7 +5,13 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libbullet-dev libtbb-dev libsuitesparse-dev libopenblas0-serial libmetis-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+  zlib1g-dev libcpp-httplib-dev  # recordings (gzip), `rbpart view`'s server
+  chromium                       # `rbpart snapshot` and the viewer's end-to-end test
+  python3-matplotlib             # `rbpart bench`'s figures (scripts/plot_study.py, system Python)
 )
+# The viewer's build (scripts/build_viewer.sh) needs node and npm; Debian's own (node 18, npm 9) do,
+# and a node that is already there (with its bundled npm) is kept.
+command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

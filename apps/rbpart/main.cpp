@@ -16,6 +16,10 @@ int main(int argc, char** argv) {
   const std::vector<std::pair<std::string, rbpart::cli::Run>> runs = {
       {"simulate", rbpart::cli::add_simulate(app)},
       {"scenes", rbpart::cli::add_scenes(app)},
+      {"partition", rbpart::cli::add_partition(app)},
+      {"view", rbpart::cli::add_view(app)},
+      {"snapshot", rbpart::cli::add_snapshot(app)},
+      {"bench", rbpart::cli::add_bench(app)},
   };
   try {
     app.parse(argc, argv);

@@ -10,6 +10,7 @@
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "io/recording.hpp"
 #include "io/state_json.hpp"
 #include "io/stats_csv.hpp"
 #include "io/text_format.hpp"
@@ -28,7 +29,9 @@ struct Options {
   SolverParams solver_params;
   StepParams step_params;
   std::string stats_path, state_path;
+  std::string record_path, record_partitioners;
   bool quiet = false;
+  PartitionOptions partition;
 };
 
 double median(std::vector<double> v) {
@@ -38,19 +41,27 @@ double median(std::vector<double> v) {
 }
 
 int run_simulate(const Options& o) {
+  const PartitionParams partition_params = rbpart::cli::partition_params(o.partition);
   SceneDef scene = resolve_scene(o.scene, o.sets);
   if (o.dt > 0) scene.dt = o.dt;
   const int steps = o.steps >= 0 ? o.steps : scene.steps;
   SolverParams solver_params = o.solver_params;
   solver_params.kind = o.solver == "pgs" ? SolverKind::Pgs : SolverKind::Direct;
 
-  World world(scene, o.step_params, solver_params);
+  World world(scene, o.step_params, solver_params, partition_params);
   // Outputs are opened before the run so a bad path fails fast, and committed only at the end.
-  ParamList params = run_parameters(o.step_params, solver_params);
+  ParamList params = run_parameters(o.step_params, solver_params, partition_params);
   params.insert(params.begin(), {{"scene", scene.name}, {"dt", round_trip(scene.dt)}, {"steps", std::to_string(steps)}});
   std::optional<StatsCsvWriter> stats;
   if (!o.stats_path.empty()) {
     stats.emplace(o.stats_path, params);
+  }
+  std::optional<RecordingWriter> recording;
+  if (!o.record_path.empty()) {
+    const std::string run_channel =
+        partition_params.partitioner == PartitionerKind::None ? "islands" : channel_name(partition_params);
+    recording.emplace(o.record_path, world, params, run_channel,
+                      parse_channel_list(o.record_partitioners, partition_params));
   }
 
   std::vector<double> total_ms, solve_ms;
@@ -60,6 +71,7 @@ int run_simulate(const Options& o) {
   for (int i = 0; i < steps; ++i) {
     const StepStats& s = world.step();
     if (stats) stats->write(s);
+    if (recording) recording->write_step(world, s);
     total_ms.push_back(s.profile.total_ms);
     solve_ms.push_back(s.profile.solve_ms);
     max_penetration = std::max(max_penetration, s.max_penetration);
@@ -68,6 +80,7 @@ int run_simulate(const Options& o) {
     progress.update(i + 1);
   }
   if (stats) stats->finish();
+  if (recording) recording->finish();
   if (!o.state_path.empty()) write_state_json(o.state_path, world.scene(), world.bodies(), world.time(), params);
 
   if (!o.quiet) {
@@ -137,6 +150,11 @@ Run add_simulate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--stats", o->stats_path, "Per-step statistics as CSV");
   cmd->add_option("--state", o->state_path, "Final state as JSON");
+  CLI::Option* record = cmd->add_option("--record", o->record_path, "Recording for `rbpart view` (docs/viewer.md)");
+  cmd->add_option("--record-partitioners", o->record_partitioners,
+                  "Also record these partitions of every step's graph, e.g. mindp,mix+fm,bfs")
+      ->needs(record);
+  add_partition_options(cmd, o->partition, false);
   cmd->add_flag("-q,--quiet", o->quiet, "No summary on stdout");
   return [o]() { return run_simulate(*o); };
 }

@@ -1,10 +1,11 @@
 #pragma once
-// A World advances a scene in time: collide -> assemble -> graph -> solve -> integrate
-// (DESIGN.md §1), each stage timed into the step's profile.
+// A World advances a scene in time: collide -> assemble -> graph -> (partition -> refine) -> solve
+// -> integrate (DESIGN.md §1), each stage timed into the step's profile.
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 namespace rbpart {
@@ -44,7 +45,10 @@ struct StepStats {
 
 class World {
  public:
-  World(SceneDef scene, StepParams step_params = {}, SolverParams solver_params = {});
+  // With a partitioner in `partition_params` every step partitions and refines the constraint graph
+  // (DESIGN.md §5-6) and reports the partition's quality in its stats.
+  World(SceneDef scene, StepParams step_params = {}, SolverParams solver_params = {},
+        PartitionParams partition_params = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -57,6 +61,7 @@ class World {
   const SceneDef& scene() const;
   const StepParams& step_params() const;
   const SolverParams& solver_params() const;
+  const PartitionParams& partition_params() const;
   const Bodies& bodies() const;
   // The last step's constraint rows (with their impulses), islands and constraint graph: what the
   // partitioners and the viewer are built from.
@@ -68,6 +73,12 @@ class World {
   const Partition& partition() const;
   // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
   std::uint64_t state_hash() const;
+
+  // Called every step just before the solve stage with the step's problem: the rows carrying their
+  // warm starts, the bodies (world inertia of this step), the islands and the constraint graph.
+  // `rbpart bench` records problems with it and replays them with every partitioner (src/study/).
+  using ProblemObserver = std::function<void(const Rows&, const Bodies&, const Islands&, const ConstraintGraph&)>;
+  void set_problem_observer(ProblemObserver observer);
 
  private:
   struct Impl;

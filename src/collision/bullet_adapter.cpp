@@ -2,9 +2,13 @@
 // is the only file that includes Bullet.
 //
 // The setup, and why:
-// - Broad phase: btDbvtBroadphase inside a btCollisionWorld. AABBs are set here, grown by the
-//   contact margin, so every pair closer than the margin overlaps. Static-static pairs are excluded
-//   by the filter masks and joined pairs by an overlap filter: filtered pairs never become pairs.
+// - Speculative margin (collide.hpp): a pair (a, b) reports contacts up to the separation
+//   margin_ab = margin + sweep_a + sweep_b, where a body's sweep bounds how far its points move in
+//   the step. Every test below that says "the margin" uses the pair's margin_ab.
+// - Broad phase: btDbvtBroadphase inside a btCollisionWorld. AABBs are set here, each grown by half
+//   the contact margin plus the body's own sweep, so the boxes of every pair closer than margin_ab
+//   overlap. Static-static pairs are excluded by the filter masks and joined pairs by an overlap
+//   filter: filtered pairs never become pairs.
 // - Narrow phase: one collision algorithm of ours, registered with the dispatcher for every pair
 //   of shape types. Bullet's convex algorithms report a separated pair with one point per call at
 //   most (box-box none at all), and its collision margins and contact perturbation move the points
@@ -23,11 +27,17 @@
 //      reference face, and the other shape's supporting feature (face, cap polygon, side line,
 //      capsule segment) is clipped against the face's side planes (Sutherland-Hodgman). Every
 //      clipped point within the margin is a contact at its exact distance from the face's plane.
-//      Otherwise (edge on edge, round on round), or when it is deeper than all of those, the
-//      closest pair is a contact.
-//   4. At most 4 points are kept: the deepest, then those spanning the largest area.
-// - Persistence: a pair's points live in its btPersistentManifold. A new point within the margin of
-//   one of the pair's previous points (in either body's frame) takes over that point's id, kept in
+//      When the pair moves further in the step than the contact margin, a face that is not
+//      aligned gives its clipped points on or above its plane (a box landing on a corner: the
+//      rest of the box), and so do the faces facing the relative motion. Otherwise (edge on
+//      edge, round on round), or when it is deeper than all of those, the closest pair is a
+//      contact.
+//   4. Without a face, parallel support segments (capsules side by side, an edge along an edge)
+//      give the two ends of their overlap instead.
+//   5. At most 4 points are kept: the deepest, then those spanning the largest area.
+// - Persistence: a pair's points live in its btPersistentManifold. A new point within the pair's
+//   margin of one of its previous points (in either body's frame; the sweeps bound how far a point
+//   moves on the other body, rolling moves it on both) takes over that point's id, kept in
 //   btManifoldPoint::m_userPersistentData; other points get fresh ids from the Collider's counter,
 //   assigned in (body_a, body_b) order after sorting, so runs are deterministic.
 #include "collision/collide.hpp"
@@ -45,6 +55,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "scene/mass_properties.hpp"
 
 namespace rbpart {
 
@@ -280,17 +291,24 @@ struct SupportSet {
 
 // State shared by the pair algorithms of one Collider, and the per-call scratch they reuse.
 struct NarrowPhase {
-  double margin = 0;
+  double contact_margin = 0;  // a pair's own margin adds the two bodies' sweeps to it
   std::vector<Geometry> geometry;
   std::vector<Polyhedron> polyhedra;
   std::vector<Mat3> rotation;  // shape frame -> world, per body
   std::vector<Vec3> position;
   std::vector<Vec3> box_lo, box_hi;  // world AABB per body
+  std::vector<double> sweep;         // per body: how far its points move in this step at most (m)
+  // The step's motion: length, velocity of the centre of mass, angular velocity, centre of mass in
+  // the shape frame.
+  double h = 0;
+  std::vector<Vec3> velocity, angular_velocity, com_local;
 
   std::vector<Vec3> reference, incident, scratch, patch;
   std::vector<PairPoint> candidates;
 
-  int generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, Vec3& axis, PairPoint* out);
+  double pair_margin(int a, int b) const { return contact_margin + sweep[a] + sweep[b]; }
+  int generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, double margin, Vec3& axis,
+               PairPoint* out);
 
  private:
   struct Face {
@@ -305,8 +323,10 @@ struct NarrowPhase {
   bool feature(int body, const SupportSet& set, Vec3& f0, Vec3& f1) const;
   Face flat_face(int body, const Vec3& dir) const;
   void face_polygon(int body, const Face& face, std::vector<Vec3>& poly) const;
-  FeatureKind incident_feature(int body, const Vec3& m, double& radius);
+  FeatureKind incident_feature(int body, const Vec3& m, const Vec3& facing, double& radius);
   void add_candidate(const PairPoint& p, double tolerance);
+  void clip_face(int a, int b, const Vec3& dir, bool contact_normal, bool speculative, double margin, double tolerance);
+  Vec3 point_velocity(int body, const Vec3& p) const;
 };
 
 // The point of the exact shape (not the rounded core) farthest along the world direction `dir`.
@@ -497,8 +517,11 @@ void NarrowPhase::face_polygon(int body, const Face& face, std::vector<Vec3>& po
   }
 }
 
-// The feature of `body` that faces a reference face with outward normal m (world), in `incident`.
-FeatureKind NarrowPhase::incident_feature(int body, const Vec3& m, double& radius) {
+// The feature of `body` that faces a reference face with outward normal m (world), in `incident`:
+// the face, or the cylinder's cap or side, turned against `facing` (m, or for a face not aligned
+// with the contact the direction from the reference body towards `body`); a cylinder's side line
+// and a capsule's core lie lowest towards m.
+FeatureKind NarrowPhase::incident_feature(int body, const Vec3& m, const Vec3& facing, double& radius) {
   const Geometry& g = geometry[body];
   const Mat3& R = rotation[body];
   const Vec3& x = position[body];
@@ -514,16 +537,19 @@ FeatureKind NarrowPhase::incident_feature(int body, const Vec3& m, double& radiu
       incident.push_back(x - g.half_length * axis);
       return FeatureKind::Segment;
     case ShapeType::Cylinder: {
-      const double along = axis.dot(m);
-      // Jolt's rule: the cap when the axis is within 45 degrees of the normal, else the side line.
-      if (std::abs(along) >= std::sqrt(0.5)) {
+      const double turned = axis.dot(facing), along = axis.dot(m);
+      const Vec3 across = along * axis - m;
+      // Jolt's rule: the cap when the axis is within 45 degrees of the normal, else the side line
+      // (unless the face lies square to the axis, with no lowest line on the side).
+      const bool cap_turned = std::abs(turned) >= std::sqrt(0.5);
+      if (cap_turned || across.norm() < 1e-9) {
         Face cap;
         cap.cap = true;
-        cap.index = along > 0 ? -1 : 1;
+        cap.index = (cap_turned ? turned : along) > 0 ? -1 : 1;
         face_polygon(body, cap, incident);
         return FeatureKind::Polygon;
       }
-      const Vec3 side = (along * axis - m).normalized();
+      const Vec3 side = across.normalized();
       incident.push_back(x + g.radius * side + g.half_length * axis);
       incident.push_back(x + g.radius * side - g.half_length * axis);
       return FeatureKind::Segment;
@@ -531,7 +557,7 @@ FeatureKind NarrowPhase::incident_feature(int body, const Vec3& m, double& radiu
     case ShapeType::Box:
     case ShapeType::Convex: {
       Face face;
-      face.index = polyhedra[g.polyhedron].support_face(-(R.transpose() * m));
+      face.index = polyhedra[g.polyhedron].support_face(-(R.transpose() * facing));
       face_polygon(body, face, incident);
       return FeatureKind::Polygon;
     }
@@ -689,13 +715,73 @@ Vec3 meeting_point(const SupportSet& a, const SupportSet& b, const Vec3& n) {
   return 0.5 * (a.p0 + b.p0);
 }
 
-// The pair's contacts (at most kMaxPoints) into `out`. `axis` is the pair's normal of the previous
-// call (zero at first), updated here.
-int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, Vec3& axis,
-                          PairPoint* out) {
+// Reference face for the direction `dir` (from B into A): the flat face of A facing against it or
+// of B facing along it, whichever is better aligned (cylinder caps are polygons inscribed in the
+// disc, so a polyhedron face wins a tie). The incident feature of the other body is clipped against
+// the face's side planes and every clipped point within `margin` of the face plane is a candidate,
+// at its distance s from the plane. A point on or above the plane is exact: its foot on the face is
+// its closest point on the convex reference body. Below the plane, s is the point's depth only if
+// the face is aligned with the contact normal `dir`, so such points are kept only then. A face
+// that is not aligned with `dir` serves only if `speculative`.
+void NarrowPhase::clip_face(int a, int b, const Vec3& dir, bool contact_normal, bool speculative, double margin,
+                            double tolerance) {
+  const Face fa = flat_face(a, -dir), fb = flat_face(b, dir);
+  const double ca = fa.alignment - (fa.cap ? 1e-9 : 0), cb = fb.alignment - (fb.cap ? 1e-9 : 0);
+  const bool aligned = std::max(ca, cb) >= kFaceAlignment;
+  if (!(aligned || (speculative && std::max(ca, cb) > 0))) return;
+  const bool below = contact_normal && aligned;
+  const bool ref_is_a = ca >= cb;
+  const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
+  const Face& face = ref_is_a ? fa : fb;
+  const Vec3& m = face.normal;  // outward from the reference body, towards the incident one
+  face_polygon(ref, face, reference);
+  const double plane = m.dot(reference[0]);
+  auto add = [&](const Vec3& q) {  // q on the incident surface
+    const double s = m.dot(q) - plane;
+    if (!(s <= margin) || (s < 0 && !below)) return;
+    const Vec3 foot = q - s * m;
+    add_candidate(ref_is_a ? PairPoint{foot, q, -m, s} : PairPoint{q, foot, m, s}, tolerance);
+  };
+  double radius = 0;
+  const FeatureKind kind = incident_feature(inc, m, aligned ? m : Vec3(ref_is_a ? -dir : dir), radius);
+  if (kind == FeatureKind::Polygon) {
+    clip_polygon(reference, m, incident, scratch);
+    for (const Vec3& q : incident) add(q);
+  } else if (kind == FeatureKind::Segment && clip_segment(reference, m, incident)) {
+    if (radius == 0) {  // a cylinder's side line, on its surface
+      for (const Vec3& q : incident) add(q);
+      return;
+    }
+    // A capsule's core, clipped. Below a core point c, along -m (so over the same spot of the
+    // face), its surface is r / cos(tilt) away on its side where the core goes on towards the face
+    // for r tan(tilt) beyond c, else on the sphere about the core's end nearest the face.
+    const Geometry& g = geometry[inc];
+    const Vec3 axis = rotation[inc].col(2);
+    const double along = m.dot(axis), cos_tilt = std::sqrt(std::max(0.0, 1 - along * along));
+    const Vec3 low_end = position[inc] - (along >= 0 ? g.half_length : -g.half_length) * axis;
+    for (const Vec3& c : incident) {
+      const Vec3 w = c - low_end;
+      const double mw = m.dot(w);
+      const double t = w.norm() * cos_tilt >= radius * std::abs(along)
+                           ? radius / cos_tilt
+                           : mw + std::sqrt(std::max(0.0, mw * mw - w.squaredNorm() + radius * radius));
+      add(c - t * m);
+    }
+  }
+}
+
+// World velocity of the material point of `body` at p.
+Vec3 NarrowPhase::point_velocity(int body, const Vec3& p) const {
+  return velocity[body] + angular_velocity[body].cross(p - position[body] - rotation[body] * com_local[body]);
+}
+
+// The pair's contacts (at most kMaxPoints) up to the separation `margin` (the pair's) into `out`.
+// `axis` is the pair's normal of the previous call (zero at first), updated here.
+int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, double margin,
+                          Vec3& axis, PairPoint* out) {
   // The broad phase pairs boxes grown by its own margin (Bullet's gDbvtMargin, 5 cm): pairs whose
-  // boxes are further apart than the contact margin stop here, and so do pairs that the previous
-  // normal still separates by more than the margin (any axis bounds the distance from below).
+  // boxes are further apart than the margin stop here, and so do pairs that the previous normal
+  // still separates by more than the margin (any axis bounds the distance from below).
   if (((box_lo[a] - box_hi[b]).array() > margin).any() || ((box_lo[b] - box_hi[a]).array() > margin).any()) return 0;
   if (axis.squaredNorm() > 0 && axis.dot(support(a, -axis) - support(b, axis)) > margin) return 0;
   const Geometry& ga = geometry[a];
@@ -802,37 +888,46 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   closest.on_a = across + (plane_a - n.dot(across)) * n;
   closest.on_b = across + (plane_b - n.dot(across)) * n;
 
-  // 3. Reference face: the flat face of A facing B or of B facing A best aligned with the normal.
-  //    Cylinder caps are polygons inscribed in the disc, so a polyhedron face wins a tie. The
-  //    contacts are the incident feature clipped against the face's side planes, each at its exact
-  //    distance from the face plane.
-  const Face fa = flat_face(a, -n), fb = flat_face(b, n);
-  const double ca = fa.alignment - (fa.cap ? 1e-9 : 0), cb = fb.alignment - (fb.cap ? 1e-9 : 0);
+  // 3. Reference face along the normal (clip_face): a face aligned with it gives the face-on-face
+  //    and edge-on-face points. When the pair's bodies move further within the step than the
+  //    contact margin (their sweeps exceed it), its margin reaches parts that the motion brings
+  //    together, and more faces serve: a face along the normal that is not aligned with it (a box
+  //    landing on a corner: the rest of the box, which a tilted or tumbling body brings down
+  //    within the step; held by its corner only, it would swing through), and the faces facing
+  //    the relative motion (a box falling past the edge of a tilted box lands with its bottom
+  //    face, which is not the face along the closest pair's normal). Pairs at rest keep the
+  //    aligned faces only, so piles get no extra rows.
   candidates.clear();
-  if (std::max(ca, cb) >= kFaceAlignment) {
-    const bool ref_is_a = ca >= cb;
-    const int ref = ref_is_a ? a : b, inc = ref_is_a ? b : a;
-    const Face& face = ref_is_a ? fa : fb;
-    const Vec3& m = face.normal;  // outward from the reference body, towards the incident one
-    face_polygon(ref, face, reference);
-    const double plane = m.dot(reference[0]);
-    auto add = [&](const Vec3& q) {  // q on the incident surface
-      const double s = m.dot(q) - plane;
-      if (!(s <= margin)) return;
-      const Vec3 foot = q - s * m;
-      add_candidate(ref_is_a ? PairPoint{foot, q, -m, s} : PairPoint{q, foot, m, s}, 1e-9 * scale);
-    };
-    double radius = 0;
-    const FeatureKind kind = incident_feature(inc, m, radius);
-    if (kind == FeatureKind::Polygon) {
-      clip_polygon(reference, m, incident, scratch);
-      for (const Vec3& q : incident) add(q);
-    } else if (kind == FeatureKind::Segment && clip_segment(reference, m, incident)) {
-      for (const Vec3& core : incident) add(core - radius * m);
+  const bool fast = margin - contact_margin > contact_margin;
+  clip_face(a, b, n, true, fast, margin, tolerance);
+  if (fast) {
+    const Vec3 meet = 0.5 * (closest.on_a + closest.on_b);
+    const Vec3 approach = point_velocity(b, meet) - point_velocity(a, meet);  // B towards A
+    if (approach.squaredNorm() > 0) clip_face(a, b, approach.normalized(), false, true, margin, tolerance);
+  }
+  // 4. Without a reference face, parallel support segments (capsules side by side, an edge along
+  //    an edge, a cylinder's side line on either) touch along their overlap: its two ends are the
+  //    contacts, so the pair is held, or speculatively stopped, along the line and not at one end
+  //    only (which would turn it about that end and let it slide past). The segments lie opposite
+  //    each other along the normal (step 2 made it the line between them), each on its support
+  //    plane, so both points are at the closest pair's distance.
+  if (candidates.empty() && sa_set.kind == SupportSet::Segment && sb_set.kind == SupportSet::Segment) {
+    const Vec3 da = sa_set.p1 - sa_set.p0, db = sb_set.p1 - sb_set.p0;
+    const double la = da.norm(), lb = db.norm();
+    if (la > 0 && lb > 0 && da.cross(db).norm() <= kFlat * la * lb) {
+      const Vec3 u = da / la;
+      const double b0 = u.dot(sb_set.p0 - sa_set.p0), b1 = u.dot(sb_set.p1 - sa_set.p0);
+      const double lo = std::max(0.0, std::min(b0, b1)), hi = std::min(la, std::max(b0, b1));
+      if (hi - lo > kFlat * scale)
+        for (double t : {lo, hi}) {
+          const Vec3 on_a = sa_set.p0 + t * u;
+          const Vec3 on_b = sb_set.p0 + u.dot(on_a - sb_set.p0) * u;
+          candidates.push_back({on_a, on_b, n, n.dot(on_a - on_b)});
+        }
     }
   }
-  // 4. The closest pair alone (edge on edge, round on round, nothing over the face), or with the
-  //    face's points when it is deeper than all of them (a tilted rim between the corners of its cap
+  // 5. The closest pair alone (edge on edge, round on round, nothing over the face), or with the
+  //    other points when it is deeper than all of them (a tilted rim between the corners of its cap
   //    polygon, a part beside the face). The allowance is the normal's error times the extent of
   //    the support sets.
   if (closest.distance < deepest_distance(candidates) - 1e-7 * scale) candidates.push_back(closest);
@@ -841,8 +936,9 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   return count;
 }
 
-// The dispatcher keeps the narrow phase for its algorithms and gives manifolds the margin as
-// Bullet's breaking threshold (Bullet's default is relative to the shape size).
+// The dispatcher keeps the narrow phase for its algorithms and gives new manifolds the contact
+// margin as Bullet's breaking threshold (Bullet's default is relative to the shape size); each
+// call of the pair's algorithm then sets the pair's own margin.
 class Dispatcher : public btCollisionDispatcher {
  public:
   Dispatcher(btCollisionConfiguration* config, NarrowPhase* narrow)
@@ -850,8 +946,8 @@ class Dispatcher : public btCollisionDispatcher {
   NarrowPhase& narrow() { return *narrow_; }
   btPersistentManifold* getNewManifold(const btCollisionObject* b0, const btCollisionObject* b1) override {
     btPersistentManifold* m = btCollisionDispatcher::getNewManifold(b0, b1);
-    m->setContactBreakingThreshold(narrow_->margin);
-    m->setContactProcessingThreshold(narrow_->margin);
+    m->setContactBreakingThreshold(narrow_->contact_margin);
+    m->setContactProcessingThreshold(narrow_->contact_margin);
     return m;
   }
 
@@ -874,9 +970,12 @@ class PairAlgorithm : public btCollisionAlgorithm {
     const btCollisionObject& oa = *manifold_->getBody0();
     const btCollisionObject& ob = *manifold_->getBody1();
     const int a = oa.getUserIndex(), b = ob.getUserIndex();
+    const double margin = narrow.pair_margin(a, b);
+    manifold_->setContactBreakingThreshold(margin);
+    manifold_->setContactProcessingThreshold(margin);
     PairPoint pts[kMaxPoints];
-    const int count = narrow.generate(a, b, oa, ob, axis_, pts);
-    update_manifold(narrow, a, b, pts, count);
+    const int count = narrow.generate(a, b, oa, ob, margin, axis_, pts);
+    update_manifold(narrow, a, b, margin, pts, count);
   }
 
   btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
@@ -896,9 +995,9 @@ class PairAlgorithm : public btCollisionAlgorithm {
 
  private:
   // Replaces the manifold's points by the new ones; a new point takes the id of the closest previous
-  // point within the margin (distance of the anchors in A's frame or in B's, whichever is smaller),
-  // each previous point going to one new point at most, closest pairs first.
-  void update_manifold(const NarrowPhase& narrow, int a, int b, const PairPoint* pts, int count) {
+  // point within the pair's margin (distance of the anchors in A's frame or in B's, whichever is
+  // smaller), each previous point going to one new point at most, closest pairs first.
+  void update_manifold(const NarrowPhase& narrow, int a, int b, double margin, const PairPoint* pts, int count) {
     const Mat3& Ra = narrow.rotation[a];
     const Mat3& Rb = narrow.rotation[b];
     Vec3 local_a[kMaxPoints], local_b[kMaxPoints];
@@ -909,7 +1008,7 @@ class PairAlgorithm : public btCollisionAlgorithm {
     const int old = manifold_->getNumContacts();
     void* ids[kMaxPoints] = {};
     bool taken_new[kMaxPoints] = {}, taken_old[kMaxPoints] = {};
-    const double radius2 = narrow.margin * narrow.margin;
+    const double radius2 = margin * margin;
     for (int round = 0; round < std::min(count, old); ++round) {
       int bi = -1, bj = -1;
       double best = radius2;
@@ -1043,8 +1142,10 @@ struct Collider::Impl {
   std::vector<char> is_static;
   std::vector<std::unique_ptr<btConvexShape>> shapes;  // per body: exact, rounded (or none)
   std::vector<std::unique_ptr<btCollisionObject>> objects;
+  std::vector<double> reach;  // per dynamic body: farthest point of the shape from the centre of mass
   std::vector<Vec3> last_position;
   std::vector<Quat> last_orientation;
+  std::vector<double> last_sweep;
   bool posed = false;
   PairFilter filter;
   PairAlgorithm::CreateFunc create_pair;
@@ -1062,12 +1163,16 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
     throw InputError("contact margin must be finite and non-negative (got " + std::to_string(margin) + ")");
   const int n = static_cast<int>(scene.bodies.size());
   NarrowPhase& narrow = m.narrow;
-  narrow.margin = margin;
+  narrow.contact_margin = margin;
   narrow.geometry.resize(n);
   narrow.rotation.assign(n, Mat3::Identity());
   narrow.position.assign(n, Vec3::Zero());
   narrow.box_lo.assign(n, Vec3::Zero());
   narrow.box_hi.assign(n, Vec3::Zero());
+  narrow.sweep.assign(n, 0.0);
+  narrow.velocity.assign(n, Vec3::Zero());
+  narrow.angular_velocity.assign(n, Vec3::Zero());
+  narrow.com_local.assign(n, Vec3::Zero());
 
   btDefaultCollisionConstructionInfo info;
   info.m_customCollisionAlgorithmMaxElementSize = static_cast<int>(sizeof(PairAlgorithm));
@@ -1093,12 +1198,23 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
   m.world->getPairCache()->setOverlapFilterCallback(&m.filter);
 
   m.is_static.resize(n);
+  m.reach.assign(n, 0.0);
   for (int i = 0; i < n; ++i) {
     const BodyDef& body = scene.bodies[i];
     m.is_static[i] = body.is_static;
     std::unique_ptr<btConvexShape> pair[2];
+    const Geometry& g = narrow.geometry[i];
     try {
       make_bullet_shapes(body.shape, margin, narrow.geometry[i], narrow.polyhedra, pair);
+      if (!body.is_static) {
+        // The centre of mass that World's velocities refer to (the same function fixes it there).
+        const Vec3 com = narrow.com_local[i] = unit_density_properties(body.shape).com;
+        if (g.polyhedron >= 0) {
+          for (const Vec3& v : narrow.polyhedra[g.polyhedron].vertices) m.reach[i] = std::max(m.reach[i], (v - com).norm());
+        } else {  // sphere, capsule, cylinder: g.size is the farthest point from the frame origin
+          m.reach[i] = com.norm() + g.size;
+        }
+      }
     } catch (const InputError& e) {
       throw InputError("body '" + body.name + "': " + e.what());
     }
@@ -1116,40 +1232,63 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
   }
   m.last_position.assign(n, Vec3::Zero());
   m.last_orientation.assign(n, Quat::Identity());
+  m.last_sweep.assign(n, 0.0);
 }
 
 Collider::~Collider() = default;
 
 void Collider::collide(const std::vector<Vec3>& frame_position, const std::vector<Quat>& frame_orientation,
+                       const std::vector<Vec3>& velocity, const std::vector<Vec3>& angular_velocity, double h,
                        std::vector<Contact>& contacts) {
   Impl& m = *impl_;
   NarrowPhase& narrow = m.narrow;
   const int n = static_cast<int>(m.objects.size());
-  if (static_cast<int>(frame_position.size()) != n || static_cast<int>(frame_orientation.size()) != n)
-    throw std::invalid_argument("collide: expected " + std::to_string(n) + " poses");
+  if (static_cast<int>(frame_position.size()) != n || static_cast<int>(frame_orientation.size()) != n ||
+      static_cast<int>(velocity.size()) != n || static_cast<int>(angular_velocity.size()) != n)
+    throw std::invalid_argument("collide: expected " + std::to_string(n) + " poses and velocities");
+  if (!std::isfinite(h) || h < 0) throw std::invalid_argument("collide: the step must be finite and non-negative");
+  narrow.h = h;
 
-  // Poses and broad-phase boxes (grown by the margin) of the bodies that moved.
-  const btVector3 grow(narrow.margin, narrow.margin, narrow.margin);
+  // Sweeps, poses and broad-phase boxes of the bodies that moved or changed speed. Each box grows
+  // by half the contact margin and by its body's sweep, so two boxes overlap when their gap is
+  // within the pair's margin.
   for (int i = 0; i < n; ++i) {
     const Vec3& x = frame_position[i];
     const Quat& q = frame_orientation[i];
     if (!x.allFinite() || !q.coeffs().allFinite() || q.squaredNorm() == 0)
       throw std::invalid_argument("collide: body " + std::to_string(i) + " has a non-finite pose");
-    if (m.posed && x == m.last_position[i] && q.coeffs() == m.last_orientation[i].coeffs()) continue;
-    m.last_position[i] = x;
-    m.last_orientation[i] = q;
-    const Mat3 R = q.normalized().toRotationMatrix();
-    narrow.rotation[i] = R;
-    narrow.position[i] = x;
-    const btTransform t(btMatrix3x3(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)),
-                        to_bt(x));
+    if (!velocity[i].allFinite() || !angular_velocity[i].allFinite())
+      throw std::invalid_argument("collide: body " + std::to_string(i) + " has a non-finite velocity");
+    const double sweep =
+        m.is_static[i] ? 0.0
+                       : std::min(h * (velocity[i].norm() + angular_velocity[i].norm() * m.reach[i]), kMaxSweep);
+    narrow.sweep[i] = sweep;
+    if (!m.is_static[i]) {
+      narrow.velocity[i] = velocity[i];
+      narrow.angular_velocity[i] = angular_velocity[i];
+    }
+    const bool moved = !m.posed || x != m.last_position[i] || q.coeffs() != m.last_orientation[i].coeffs();
+    if (!moved && sweep == m.last_sweep[i]) continue;
+    m.last_sweep[i] = sweep;
     btCollisionObject& object = *m.objects[i];
-    object.setWorldTransform(t);
-    btVector3 lo, hi;
-    object.getCollisionShape()->getAabb(t, lo, hi);
-    narrow.box_lo[i] = to_eigen(lo);
-    narrow.box_hi[i] = to_eigen(hi);
-    m.broadphase->setAabb(object.getBroadphaseHandle(), lo - grow, hi + grow, m.dispatcher.get());
+    if (moved) {
+      m.last_position[i] = x;
+      m.last_orientation[i] = q;
+      const Mat3 R = q.normalized().toRotationMatrix();
+      narrow.rotation[i] = R;
+      narrow.position[i] = x;
+      const btTransform t(btMatrix3x3(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)),
+                          to_bt(x));
+      object.setWorldTransform(t);
+      btVector3 lo, hi;
+      object.getCollisionShape()->getAabb(t, lo, hi);
+      narrow.box_lo[i] = to_eigen(lo);
+      narrow.box_hi[i] = to_eigen(hi);
+    }
+    const double grow = 0.5 * narrow.contact_margin + sweep;
+    const btVector3 g(grow, grow, grow);
+    m.broadphase->setAabb(object.getBroadphaseHandle(), to_bt(narrow.box_lo[i]) - g, to_bt(narrow.box_hi[i]) + g,
+                          m.dispatcher.get());
   }
   m.posed = true;
 

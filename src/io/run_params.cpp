@@ -1,6 +1,7 @@
 #include "io/run_params.hpp"
 
 #include "io/text_format.hpp"
+#include "partition/partition.hpp"
 
 namespace rbpart {
 
@@ -39,6 +40,17 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"substructured_max_iterations", integer(solver.substructured_max_iterations)},
       {"threads", integer(solver.threads)},
   };
+}
+
+ParamList run_parameters(const StepParams& step, const SolverParams& solver, const PartitionParams& partition) {
+  ParamList params = run_parameters(step, solver);
+  params.insert(params.end(), {{"partitioner", partitioner_name(partition.partitioner)},
+                               {"refiner", refiner_name(partition.refiner)},
+                               {"nmax", std::to_string(partition.nmax)},
+                               {"tau_mr", round_trip(partition.tau_mr)},
+                               {"tau_mix", round_trip(partition.tau_mix)},
+                               {"debug_checks", partition.debug_checks ? "1" : "0"}});
+  return params;
 }
 
 }  // namespace rbpart

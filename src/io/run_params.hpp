@@ -14,5 +14,8 @@ using ParamList = std::vector<std::pair<std::string, std::string>>;
 // Every field of StepParams and SolverParams, named as in params.hpp (the solver kind as
 // "solver"), doubles in round-trip form: {"erp", "0.2"}, ..., {"solver", "direct"}, ...
 ParamList run_parameters(const StepParams& step, const SolverParams& solver);
+// The same followed by every field of PartitionParams ("partitioner" and "refiner" by their CLI
+// names): {"partitioner", "mix"}, {"refiner", "fm"}, {"nmax", "32"}, ...
+ParamList run_parameters(const StepParams& step, const SolverParams& solver, const PartitionParams& partition);
 
 }  // namespace rbpart

@@ -5,6 +5,7 @@
 #include "core/parallel.hpp"
 #include "solve/blcp.hpp"
 #include "solve/dense_matrix.hpp"
+#include "solve/direct_island.hpp"
 #include "solve/island_system.hpp"
 #include "solve/residual.hpp"
 #include "solve/sparse_matrix.hpp"
@@ -16,12 +17,6 @@
 namespace rbpart {
 
 namespace {
-
-struct IslandOutcome {
-  int iterations = 0, passes = 0, factorizations = 0;
-  bool newton = false, failed = false;
-  double residual = 0;
-};
 
 // The backend for an island: dense Cholesky up to dense_max_rows rows; above, the body-space
 // factorisation, which is exact through the core's refinement and much cheaper than CHOLMOD on A
@@ -46,6 +41,8 @@ std::unique_ptr<BlcpMatrix> make_matrix(const IslandSystem& s, const SolverParam
   sparse->assign(std::move(a));
   return sparse;
 }
+
+}  // namespace
 
 IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& islands, int island,
                            const std::vector<int>& local_row, const SolverParams& params) {
@@ -94,8 +91,6 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   out.residual = scaled_natural_map_residual(lambda, ws.w, s.diag, s.lo, s.hi, s.q);
   return out;
 }
-
-}  // namespace
 
 SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params) {
   const std::vector<int> local_row = local_row_index(rows, islands);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
@@ -27,6 +28,7 @@ struct World::Impl {
   SceneDef scene;
   StepParams step_params;
   SolverParams solver_params;
+  PartitionParams partition_params;
   std::unique_ptr<tbb::global_control> thread_limit;  // only when a thread count is asked for
   Bodies bodies;
   std::vector<JointFrame> joints;
@@ -42,9 +44,11 @@ struct World::Impl {
   Partition partition_;
   StepStats stats;
   int steps = 0;
+  ProblemObserver observer;  // sees each step's problem before the solve (set_problem_observer)
 
-  Impl(SceneDef s, StepParams sp, SolverParams so)
-      : scene(std::move(s)), step_params(sp), solver_params(so), collider(scene, sp.contact_margin) {
+  Impl(SceneDef s, StepParams sp, SolverParams so, PartitionParams pp)
+      : scene(std::move(s)), step_params(sp), solver_params(so), partition_params(pp),
+        collider(scene, sp.contact_margin) {
     if (solver_params.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(solver_params.threads));
@@ -95,7 +99,7 @@ struct World::Impl {
   void collide() {
     frame_position.resize(bodies.size());
     for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
-    collider.collide(frame_position, bodies.q, contacts);
+    collider.collide(frame_position, bodies.q, bodies.v, bodies.w, scene.dt, contacts);
   }
 
   void assemble() {
@@ -109,7 +113,25 @@ struct World::Impl {
   void graph() {
     build_islands(rows, bodies.size(), islands);
     build_constraint_graph(rows, bodies, graph_);
-    partition_by_islands(graph_, islands, partition_);
+    if (partition_params.partitioner == PartitionerKind::None) partition_by_islands(graph_, islands, partition_);
+  }
+
+  void partition() {
+    partition_graph(graph_, partition_params, partition_);
+    check("partition");
+  }
+
+  void refine() {
+    refine_partition(graph_, partition_params, partition_);
+    check("refine");
+  }
+
+  // --debug-checks: a partition breaking DESIGN.md §5's properties is an internal failure.
+  void check(const char* stage) const {
+    if (!partition_params.debug_checks) return;
+    const std::string violation = check_partition(graph_, partition_, partition_params.nmax);
+    if (!violation.empty())
+      throw std::logic_error(std::string(stage) + " stage at step " + std::to_string(steps + 1) + ": " + violation);
   }
 
   SolveReport solve() {
@@ -147,8 +169,14 @@ struct World::Impl {
     { const Timer t; collide(); p.collide_ms = t.ms(); }
     { const Timer t; assemble(); p.assemble_ms = t.ms(); }
     { const Timer t; graph(); p.graph_ms = t.ms(); }
-    p.partition_ms = p.refine_ms = 0;  // monolithic solvers do not partition
+    p.partition_ms = p.refine_ms = 0;  // without a partitioner the parts are the islands (graph stage)
+    const bool partitioned = partition_params.partitioner != PartitionerKind::None;
+    if (partitioned) {
+      { const Timer t; partition(); p.partition_ms = t.ms(); }
+      { const Timer t; refine(); p.refine_ms = t.ms(); }
+    }
     SolveReport report;
+    if (observer) observer(rows, bodies, islands, graph_);
     { const Timer t; report = solve(); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
     p.total_ms = total.ms();
@@ -167,6 +195,13 @@ struct World::Impl {
     s.islands = static_cast<int>(islands.count());
     s.parts = s.islands;
     s.interface_rows = s.interface_bodies = s.edge_cut = 0;
+    if (partitioned) {
+      const PartitionQuality q = measure_partition(graph_, partition_);
+      s.parts = q.parts;
+      s.interface_rows = q.interface_rows;
+      s.interface_bodies = q.interface_bodies;
+      s.edge_cut = q.edge_cut;
+    }
     s.solver_iterations = report.iterations;
     s.friction_passes = report.friction_passes;
     s.factorizations = report.factorizations;
@@ -179,8 +214,8 @@ struct World::Impl {
   }
 };
 
-World::World(SceneDef scene, StepParams step_params, SolverParams solver_params)
-    : impl_(std::make_unique<Impl>(std::move(scene), step_params, solver_params)) {}
+World::World(SceneDef scene, StepParams step_params, SolverParams solver_params, PartitionParams partition_params)
+    : impl_(std::make_unique<Impl>(std::move(scene), step_params, solver_params, partition_params)) {}
 World::~World() = default;
 
 const StepStats& World::step() { return impl_->step(); }
@@ -189,11 +224,13 @@ int World::step_count() const { return impl_->steps; }
 const SceneDef& World::scene() const { return impl_->scene; }
 const StepParams& World::step_params() const { return impl_->step_params; }
 const SolverParams& World::solver_params() const { return impl_->solver_params; }
+const PartitionParams& World::partition_params() const { return impl_->partition_params; }
 const Bodies& World::bodies() const { return impl_->bodies; }
 const Rows& World::rows() const { return impl_->rows; }
 const Islands& World::islands() const { return impl_->islands; }
 const ConstraintGraph& World::graph() const { return impl_->graph_; }
 const Partition& World::partition() const { return impl_->partition_; }
+void World::set_problem_observer(ProblemObserver observer) { impl_->observer = std::move(observer); }
 
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;

@@ -68,6 +68,8 @@ struct Fixture {
   std::unique_ptr<Collider> collider;
   std::vector<Vec3> x;
   std::vector<Quat> q;
+  std::vector<Vec3> v, w;  // velocities for the speculative margin; zero (at rest) unless set
+  double h = 1.0 / 60;
   std::vector<Contact> contacts;
 
   int add(const BodyDef& b) {
@@ -76,7 +78,9 @@ struct Fixture {
   }
   const std::vector<Contact>& run() {
     if (!collider) collider = std::make_unique<Collider>(scene, margin);
-    collider->collide(x, q, contacts);
+    v.resize(x.size(), Vec3::Zero());
+    w.resize(x.size(), Vec3::Zero());
+    collider->collide(x, q, v, w, h, contacts);
     return contacts;
   }
   // Runs with the scene's own poses (later calls with run() after editing x and q).
@@ -279,11 +283,38 @@ TEST(Collide, CapsuleLyingOnGroundTouchesAtBothEnds) {
     ASSERT_EQ(c.size(), 2u);
     for (double s : {-1.0, 1.0}) {
       const Vec3 end = cap.position + s * h * axis;
-      const double d = end.z() - r;  // lowest point of that end's hemisphere
+      // Under the low end its hemisphere's lowest point; under the raised end the side of the
+      // capsule, r / cos(tilt) below the axis (the hemisphere's lowest point is inside).
+      const double d = end.z() - (s < 0 ? r : r / std::cos(tilt));
       const Contact& k = nearest(c, Vec3(end.x(), end.y(), 0.5 * d));
       EXPECT_NEAR(k.distance, d, 1e-12);
       expect_vec_near(k.point, Vec3(end.x(), end.y(), 0.5 * d), 1e-12);
       expect_vec_near(k.normal, Vec3::UnitZ(), 1e-12);
+    }
+  }
+}
+
+TEST(Collide, ParallelCapsulesTouchAtBothEndsOfTheirOverlap) {
+  // Two capsules (radius 0.03, half length 0.1) along y, side by side along x with a gap g and B
+  // shifted by 0.04 along y: the lines touch over y in [-0.06, 0.1], a contact at each end.
+  const double r = 0.03, hl = 0.1;
+  for (double gap : {0.004, -0.002}) {
+    Fixture f;
+    const Quat along_y(Eigen::AngleAxisd(kPi / 2, Vec3::UnitX()));
+    BodyDef a = round_body(ShapeType::Capsule, r, hl), b = a;
+    a.orientation = b.orientation = along_y;
+    a.position = Vec3(0.3, 0.2, 0.5);
+    b.position = a.position + Vec3(2 * r + gap, 0.04, 0);
+    f.add(a);
+    f.add(b);
+    const auto& c = f.run_scene_poses();
+    SCOPED_TRACE(gap);
+    ASSERT_EQ(c.size(), 2u);
+    for (double y : {-0.06, 0.1}) {
+      const Contact& k = nearest(c, a.position + Vec3(r + 0.5 * gap, y, 0));
+      expect_vec_near(k.point, a.position + Vec3(r + 0.5 * gap, y, 0), 1e-9);
+      expect_vec_near(k.normal, -Vec3::UnitX(), 1e-9);
+      EXPECT_NEAR(k.distance, gap, 1e-9);
     }
   }
 }
@@ -368,6 +399,35 @@ TEST(Collide, CrossedBoxEdgesGiveOnePointAlongTheEdgeNormal) {
   EXPECT_NEAR(c[0].distance, gap, 1e-9);
   expect_vec_near(c[0].normal, -Vec3::UnitZ(), 1e-9);  // from b (above) into a (below)
   expect_vec_near(c[0].point, Vec3(0.05, 0, hs * std::sqrt(2.0) + 0.5 * gap), 1e-9);
+}
+
+TEST(Collide, CrossedBoxEdgesClosingFastAlsoGiveTheFacesBeyond) {
+  // The boxes of the test above, B falling at 6 m/s (0.1 m per step): within the step its lower
+  // faces can reach A's upper faces, so besides the edge-on-edge point the faces, though not
+  // aligned with the normal, give their clipped points (each an exact distance, as the random
+  // test checks). At rest, with a contact margin as large as the moving pair's margin, the edges
+  // alone.
+  const double hs = 0.1, gap = 0.003, speed = 6, h = 1.0 / 60;
+  for (bool moving : {false, true}) {
+    Fixture f;
+    f.margin = moving ? kMargin : kMargin + h * speed;
+    BodyDef a = box(Vec3(0.3, hs, hs));
+    a.orientation = Quat(Eigen::AngleAxisd(kPi / 4, Vec3::UnitX()));
+    BodyDef b = box(Vec3(hs, 0.3, hs));
+    b.orientation = Quat(Eigen::AngleAxisd(kPi / 4, Vec3::UnitY()));
+    b.position = Vec3(0.05, -0.02, 2 * hs * std::sqrt(2.0) + gap);
+    f.add(a);
+    f.add(b);
+    f.run_scene_poses();
+    if (moving) f.v[1] = Vec3(0, 0, -speed);
+    const auto& c = f.run();
+    SCOPED_TRACE(moving ? "moving" : "at rest");
+    if (!moving) ASSERT_EQ(c.size(), 1u);
+    EXPECT_GT(c.size(), moving ? 1u : 0u);
+    const Contact& edge = nearest(c, Vec3(0.05, 0, hs * std::sqrt(2.0) + 0.5 * gap));
+    EXPECT_NEAR(edge.distance, gap, 1e-9);
+    for (const Contact& k : c) EXPECT_GE(k.distance, gap - 1e-9);
+  }
 }
 
 TEST(Collide, SphereOverABoxEdgeTouchesTheEdge) {
@@ -683,6 +743,61 @@ TEST(Collide, RandomPosesGiveCertifiedContacts) {
   EXPECT_GT(separated, 100);
 }
 
+TEST(Collide, SpeculativeContactsAreExactDistances) {
+  // Every shape type against every other at random poses and speeds of up to 10 m/s and 20 rad/s,
+  // so that pairs report contacts far beyond the contact margin, from faces along the normal and
+  // along the relative motion. Every separated contact must be a true distance: both its points on
+  // their bodies' surfaces, and one of the two bodies wholly behind the plane through its point
+  // normal to the normal (the foot of the other point is then its closest point on that body).
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Fixture f;
+  f.add(ground());
+  std::vector<Vec3> rock;
+  for (int i = 0; i < 16; ++i) rock.push_back(Vec3(u(rng), u(rng), u(rng)).normalized().cwiseProduct(Vec3(0.15, 0.1, 0.12)));
+  const BodyDef shapes[] = {sphere(0.1), box(Vec3(0.1, 0.05, 0.15)), round_body(ShapeType::Capsule, 0.05, 0.1),
+                            round_body(ShapeType::Cylinder, 0.08, 0.1), hull(rock)};
+  for (int i = 0; i < 40; ++i) f.add(shapes[i % 5]);
+  const int n = static_cast<int>(f.scene.bodies.size());
+  std::vector<std::vector<Plane>> planes(n);
+  for (int i = 0; i < n; ++i)
+    if (f.scene.bodies[i].shape.type == ShapeType::Box || f.scene.bodies[i].shape.type == ShapeType::Convex)
+      planes[i] = facets(corners_of(f.scene.bodies[i]));
+  f.run_scene_poses();
+  int certified = 0, far = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    for (int i = 1; i < n; ++i) {
+      f.x[i] = Vec3(u(rng), u(rng), 0.5 * (u(rng) + 1)) * 1.2;
+      f.q[i] = Quat(Eigen::AngleAxisd(kPi * u(rng), Vec3(u(rng), u(rng), u(rng)).normalized()));
+      f.v[i] = 10 * Vec3(u(rng), u(rng), u(rng)) / std::sqrt(3.0);
+      f.w[i] = 20 * Vec3(u(rng), u(rng), u(rng)) / std::sqrt(3.0);
+    }
+    for (const Contact& k : f.run()) {
+      if (k.distance < 0) continue;
+      const int a = k.body_a, b = k.body_b;
+      const BodyDef &da = f.scene.bodies[a], &db = f.scene.bodies[b];
+      const Vec3& nrm = k.normal;
+      const Vec3 on_a = k.point + 0.5 * k.distance * nrm;
+      const Vec3 on_b = k.point - 0.5 * k.distance * nrm;
+      const double plane_tol = 2e-6 * 0.3;
+      const bool bounds_a = std::abs(nrm.dot(support_of(da, f.x[a], f.q[a], -nrm) - on_a)) <= plane_tol;
+      const bool bounds_b = std::abs(nrm.dot(support_of(db, f.x[b], f.q[b], nrm) - on_b)) <= plane_tol;
+      EXPECT_TRUE(bounds_a || bounds_b) << "distance " << k.distance;
+      // Where a cylinder rim or a vertex meets an edge, a point may sit about the rounding radius
+      // (a twentieth of the margin) off along the surface (see above): twice that is allowed.
+      const double tol = 0.1 * kMargin;
+      EXPECT_NEAR(surface_of(da, planes[a], f.x[a], f.q[a], on_a), 0, tol)
+          << "a " << static_cast<int>(da.shape.type) << ", distance " << k.distance;
+      EXPECT_NEAR(surface_of(db, planes[b], f.x[b], f.q[b], on_b), 0, tol)
+          << "b " << static_cast<int>(db.shape.type) << ", distance " << k.distance;
+      ++certified;
+      far += k.distance > 5 * kMargin;
+    }
+  }
+  EXPECT_GT(certified, 500);
+  EXPECT_GT(far, 200);
+}
+
 TEST(Collide, SphereDistancesMatchCentreDistances) {
   // Round shapes are exact: sphere-sphere distances equal |c1 - c2| - r1 - r2 wherever reported.
   std::mt19937 rng(8);
@@ -705,6 +820,163 @@ TEST(Collide, SphereDistancesMatchCentreDistances) {
       if (d.norm() > 1e-6) expect_vec_near(k.normal, d.normalized(), 1e-9);
     }
   }
+}
+
+// Speculative margin (collide.hpp): a pair reports contacts up to margin + sweep_a + sweep_b,
+// sweep = min(h (|v| + |w| reach), kMaxSweep), reach = farthest surface point from the centre of
+// mass (a sphere's radius); static bodies never sweep.
+TEST(Collide, SpeculativeMarginFollowsEachPairsSpeed) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(0, 1);
+  Fixture f;
+  constexpr int kSpheres = 30;
+  for (int i = 0; i < kSpheres; ++i) {
+    BodyDef s = sphere(0.05 + 0.1 * u(rng));
+    s.is_static = i % 5 == 0;
+    f.add(s);
+  }
+  f.run_scene_poses();
+  auto unit = [&] { return Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized(); };
+  int far_pairs = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    for (int i = 0; i < kSpheres; ++i) {
+      f.x[i] = Vec3(u(rng), u(rng), u(rng)) * 2.0;
+      f.v[i] = 25 * u(rng) * unit();  // up to 0.42 m per step
+      f.w[i] = 40 * u(rng) * unit();
+    }
+    f.v[trial] = 500 * unit();  // capped at kMaxSweep
+    std::vector<double> sweep(kSpheres);
+    for (int i = 0; i < kSpheres; ++i)
+      sweep[i] = f.scene.bodies[i].is_static
+                     ? 0.0
+                     : std::min(f.h * (f.v[i].norm() + f.w[i].norm() * f.scene.bodies[i].shape.radius), Collider::kMaxSweep);
+    int expected = 0;
+    for (int i = 0; i < kSpheres; ++i)
+      for (int j = i + 1; j < kSpheres; ++j) {
+        if (f.scene.bodies[i].is_static && f.scene.bodies[j].is_static) continue;
+        const double gap = (f.x[i] - f.x[j]).norm() - f.scene.bodies[i].shape.radius - f.scene.bodies[j].shape.radius;
+        expected += gap <= kMargin + sweep[i] + sweep[j];
+        far_pairs += gap > 0.1 && gap <= kMargin + sweep[i] + sweep[j];
+      }
+    const auto& c = f.run();
+    EXPECT_EQ(static_cast<int>(c.size()), expected);
+    for (const Contact& k : c) {
+      const Vec3 d = f.x[k.body_a] - f.x[k.body_b];
+      EXPECT_NEAR(k.distance, d.norm() - f.scene.bodies[k.body_a].shape.radius - f.scene.bodies[k.body_b].shape.radius,
+                  1e-9);
+      expect_vec_near(k.normal, d.normalized(), 1e-9);
+    }
+  }
+  EXPECT_GT(far_pairs, 50);  // the speeds matter: many pairs are reported far beyond the contact margin
+}
+
+TEST(Collide, SweepTurnsAboutTheCentreOfMass) {
+  // A cube hull whose shape frame lies 2 m from its centre: spinning at w, its points move at most
+  // h w sqrt(3) 0.1 per step, not h w 2.1.
+  std::vector<Vec3> v;
+  for (const Vec3& p : cube_corners(0.1)) v.push_back(p + Vec3(2, 0, 0));
+  const double w = 10, sweep = (1.0 / 60) * w * std::sqrt(3.0) * 0.1;
+  for (double gap : {kMargin + sweep - 1e-4, kMargin + sweep + 1e-4}) {
+    Fixture f;
+    f.add(ground());
+    BodyDef b = hull(v);
+    b.position = Vec3(-2, 0, 0.1 + gap);
+    f.add(b);
+    f.run_scene_poses();
+    f.w[1] = Vec3(0, w, 0);
+    EXPECT_EQ(f.run().size(), gap < kMargin + sweep ? 4u : 0u) << "gap " << gap;
+  }
+}
+
+TEST(Collide, FastApproachGivesContactsAtTheirExactDistances) {
+  // A box falling face down at 20 m/s, 0.3 m above the ground: its four corners at 0.3 m, which
+  // it would cover within the step (0.33 m); at rest the same pose reports nothing.
+  const Vec3 h(0.3, 0.2, 0.1);
+  Fixture f;
+  f.add(ground());
+  BodyDef b = box(h);
+  b.position = Vec3(0.4, -0.1, h.z() + 0.3);
+  b.orientation = Quat(Eigen::AngleAxisd(0.5, Vec3::UnitZ()));
+  f.add(b);
+  EXPECT_TRUE(f.run_scene_poses().empty());
+  f.v[1] = Vec3(0, 0, -20);
+  expect_box_corners(f.run(), h, 0.4, -0.1, 0.5, 0.3, 1e-9);
+  f.v[1] = Vec3(0, 0, -17);  // 0.283 m per step: out of reach
+  EXPECT_TRUE(f.run().empty());
+}
+
+TEST(Collide, FallingBoxGetsContactsAlongItsMotion) {
+  // A static cube (half side 0.2) turned about x by asin 0.6: its upper-left face rises from the
+  // edge at (y, z) = (-0.28, 0.04) to the top edge at (0.04, 0.28), slope 3/4, outward normal
+  // (0, -0.6, 0.8). Over it a level box (half extents 0.2, 0.25, 0.08) whose bottom-right edge,
+  // at y = -0.08, is 0.25 above that face (which is at z = 0.19 there), 0.8 * 0.25 = 0.2 from its
+  // plane. Falling at 20 m/s the box closes 0.33 m per step: besides the closest pair along the
+  // face's normal, the faces facing the motion give that edge's ends along the bottom face's
+  // normal, at their vertical distance 0.25. At rest, with the same margin, only the former.
+  const double gap = 0.25, speed = 20, h = 1.0 / 60;
+  for (bool moving : {true, false}) {
+    Fixture f;
+    f.margin = moving ? kMargin : kMargin + h * speed;
+    BodyDef cube = box(Vec3(0.2, 0.2, 0.2), true);
+    cube.orientation = Quat(Eigen::AngleAxisd(std::asin(0.6), Vec3::UnitX()));
+    f.add(cube);
+    BodyDef lid = box(Vec3(0.2, 0.25, 0.08));
+    lid.position = Vec3(0, -0.33, 0.19 + gap + 0.08);
+    f.add(lid);
+    f.run_scene_poses();
+    if (moving) f.v[1] = Vec3(0, 0, -speed);
+    const auto& c = f.run();
+    SCOPED_TRACE(moving ? "moving" : "at rest");
+    int along_motion = 0;
+    for (const Contact& k : c) {
+      if (k.normal.z() < 0.9999) {
+        expect_vec_near(k.normal, Vec3(0, -0.6, 0.8), 1e-9);
+        continue;
+      }
+      ++along_motion;
+      expect_vec_near(k.point, Vec3(k.point.x() > 0 ? 0.2 : -0.2, -0.08, 0.19 + 0.5 * gap), 1e-9);
+      EXPECT_NEAR(k.distance, gap, 1e-9);
+    }
+    EXPECT_EQ(along_motion, moving ? 2 : 0);
+  }
+}
+
+TEST(Collide, RollingSphereKeepsItsContactId) {
+  // Rolling at 6 m/s, the contact point moves 0.1 m per step along the ground and as far around
+  // the sphere: beyond the contact margin in both bodies' frames, within the pair's margin.
+  const double r = 0.2, speed = 6, h = 1.0 / 60;
+  Fixture f;
+  f.add(ground());
+  BodyDef s = sphere(r);
+  s.position = Vec3(-1, 0.3, r);
+  f.add(s);
+  f.run_scene_poses();
+  f.v[1] = Vec3(speed, 0, 0);
+  f.w[1] = Vec3(0, speed / r, 0);
+  std::uint64_t id = 0;
+  for (int step = 0; step < 10; ++step) {
+    f.x[1] += h * f.v[1];
+    f.q[1] = (Quat(Eigen::AngleAxisd(h * speed / r, Vec3::UnitY())) * f.q[1]).normalized();
+    const auto& c = f.run();
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_NEAR(c[0].distance, 0, 1e-12);
+    if (step > 0) EXPECT_EQ(c[0].id, id) << "step " << step;
+    id = c[0].id;
+  }
+}
+
+TEST(Collide, RejectsBadVelocitiesAndStep) {
+  Fixture f;
+  f.add(sphere(0.1));
+  f.run_scene_poses();
+  f.v[0].x() = std::nan("");
+  EXPECT_THROW(f.run(), std::invalid_argument);
+  f.v[0].x() = 0;
+  f.h = -1;
+  EXPECT_THROW(f.run(), std::invalid_argument);
+  f.h = 1.0 / 60;
+  f.w.push_back(Vec3::Zero());
+  EXPECT_THROW(f.collider->collide(f.x, f.q, f.v, f.w, f.h, f.contacts), std::invalid_argument);
 }
 
 TEST(Collide, RejectsBadMarginAndDegenerateHull) {

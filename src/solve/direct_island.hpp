@@ -1,0 +1,27 @@
+#pragma once
+// The monolithic direct solve of one island (direct.cpp, DESIGN.md §3), shared with the
+// substructured solver, which uses it for islands that are a single sub-system and as its counted
+// fallback when the interface/sub-system iteration hits its cap (DESIGN.md §7).
+#include <rbpart/params.hpp>
+
+#include "assembly/rows.hpp"
+#include "graph/islands.hpp"
+#include "scene/bodies.hpp"
+
+#include <vector>
+
+namespace rbpart {
+
+struct IslandOutcome {
+  int iterations = 0, passes = 0, factorizations = 0;
+  bool newton = false, failed = false;
+  double residual = 0;
+};
+
+// Solves island `island` (friction outer loop around the fixed-bounds BLCP core), warm started from
+// rows.lambda/state, and writes the impulses, sets and final friction bounds back into `rows`.
+// `local_row` is local_row_index(rows, islands).
+IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& islands, int island,
+                           const std::vector<int>& local_row, const SolverParams& params);
+
+}  // namespace rbpart

@@ -1,0 +1,162 @@
+// The substructured solver's driver (DESIGN.md §7): per island, the parts of its bodies, then the
+// friction outer loop of DESIGN.md §3 around the substructured fixed-bounds solve
+// (SubstructuredIsland::solve_fixed) and the coupled friction step on the substructured matrix,
+// exactly as solve_direct runs them around its monolithic solve.
+#include "solve/substructured.hpp"
+
+#include "core/parallel.hpp"
+#include "core/timer.hpp"
+#include "solve/blcp.hpp"
+#include "solve/direct_island.hpp"
+#include "solve/island_system.hpp"
+#include "solve/residual.hpp"
+#include "solve/sub_island.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace rbpart {
+
+namespace {
+
+struct SplitOutcome {
+  IslandOutcome island;  // passes, residual, failure; iterations/factorizations of monolithic solves
+  SubIslandStats sub;    // phases, loop iterations (split islands)
+  int parts = 1, interface_rows = 0, interface_bodies = 0;
+  bool fallback = false;
+  double monolithic_ms = 0, wall_ms = 0;
+};
+
+SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands& islands, int island,
+                                const std::vector<int>& local_row, const ConstraintGraph& graph,
+                                const Partition& partition, const SolverParams& params) {
+  const Timer wall;
+  SplitOutcome out;
+  IslandSystem s;
+  s.gather(rows, bodies, islands, island, local_row);
+  // The island's parts, numbered in increasing part id.
+  std::vector<int> part_of_body(s.bodies), ids(s.bodies);
+  for (int b = 0; b < s.bodies; ++b) ids[b] = partition.part_of[graph.node_of[s.global_bodies[b]]];
+  std::vector<int> distinct = ids;
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  for (int b = 0; b < s.bodies; ++b)
+    part_of_body[b] = static_cast<int>(std::lower_bound(distinct.begin(), distinct.end(), ids[b]) - distinct.begin());
+  auto monolithic = [&] {
+    const Timer timer;
+    out.island = solve_island(rows, bodies, islands, island, local_row, params);
+    out.monolithic_ms += timer.ms();
+  };
+  if (distinct.size() < 2 || !(s.sigma.array() > 0).all()) {
+    monolithic();
+    out.wall_ms = wall.ms();
+    out.sub.critical_ms = out.wall_ms;
+    out.sub.other_ms = out.wall_ms - out.monolithic_ms;
+    return out;
+  }
+  out.parts = static_cast<int>(distinct.size());
+
+  Eigen::VectorXd lambda(s.rows), previous;
+  std::vector<RowState> state(s.rows);
+  for (int r = 0; r < s.rows; ++r) {
+    lambda[r] = rows.lambda[s.global_rows[r]];
+    state[r] = rows.state[s.global_rows[r]];
+  }
+  SubstructuredIsland sub;
+  sub.assign(s, part_of_body, out.parts);
+  out.interface_rows = sub.interface_rows();
+  out.interface_bodies = sub.interface_bodies();
+
+  BlcpSettings settings;
+  settings.max_iterations = params.max_pivot_iterations;
+  settings.pivot_patience = params.murty_after;
+  CoupledWorkspace coupled;
+  const FrictionPassResult passes = friction_passes(
+      s.coupling(), lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
+      [&] { return sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations); },
+      [&] {
+        bool solved = false;
+        sub.serial(kCoupledPhase, [&] {
+          solved = coupled_friction_step(sub, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
+        });
+        return solved;
+      });
+  out.island.passes = passes.passes;
+
+  if (!passes.solved) {
+    // The cap was hit or a BLCP failed: the monolithic solve keeps the step correct. `rows` still
+    // holds the warm start.
+    out.fallback = true;
+    monolithic();
+  } else {
+    for (int r = 0; r < s.rows; ++r) {
+      const int g = s.global_rows[r];
+      rows.lambda[g] = lambda[r];
+      rows.state[g] = state[r];
+      rows.lo[g] = s.lo[r];
+      rows.hi[g] = s.hi[r];
+    }
+    // Quality as solve_direct measures it: friction bounds of the final normal impulses, w from A.
+    Eigen::VectorXd w, du;
+    set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
+    apply_a(s, lambda, du, w);
+    w += s.q;
+    out.island.residual = scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
+  }
+  out.wall_ms = wall.ms();
+  // The monolithic fallback is serial work after the substructured attempt.
+  out.sub = sub.stats(out.wall_ms - out.monolithic_ms);
+  out.sub.critical_ms += out.monolithic_ms;
+  return out;
+}
+
+}  // namespace
+
+SubstructuredReport solve_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
+                                        const ConstraintGraph& graph, const Partition& partition,
+                                        const SolverParams& params) {
+  if (static_cast<int>(partition.part_of.size()) != graph.node_count())
+    throw std::invalid_argument("solve_substructured: the partition does not cover the graph's nodes");
+  const std::vector<int> local_row = local_row_index(rows, islands);
+  const std::size_t count = islands.count();
+  // Largest islands first, so that one big island does not start last on a busy thread.
+  std::vector<int> order(count);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return islands.row_offset[x + 1] - islands.row_offset[x] > islands.row_offset[y + 1] - islands.row_offset[y];
+  });
+  std::vector<SplitOutcome> outcome(count);
+  parallel_for_each(count, [&](std::size_t t) {
+    const int i = order[t];
+    outcome[i] = solve_split_island(rows, bodies, islands, i, local_row, graph, partition, params);
+  });
+
+  SubstructuredReport report;
+  SolveReport& solve = report.solve;
+  for (const SplitOutcome& o : outcome) {
+    solve.iterations += o.island.iterations + o.sub.blcp_iterations;
+    solve.friction_passes = std::max(solve.friction_passes, o.island.passes);
+    solve.factorizations += o.island.factorizations + o.sub.factorizations;
+    solve.newton_islands += o.island.newton || o.sub.newton;
+    solve.failures += o.island.failed;
+    solve.residual = std::max(solve.residual, o.island.residual);
+    report.parts += o.parts;
+    report.interface_rows += o.interface_rows;
+    report.interface_bodies += o.interface_bodies;
+    report.loop_iterations += o.sub.loop_iterations;
+    report.fallbacks += o.fallback;
+    report.factor_ms += o.sub.phase_ms[kFactorPhase];
+    report.schur_ms += o.sub.phase_ms[kSchurPhase];
+    report.interface_ms += o.sub.phase_ms[kInterfacePhase];
+    report.subsystem_ms += o.sub.phase_ms[kSubsystemPhase];
+    report.coupled_ms += o.sub.phase_ms[kCoupledPhase];
+    report.monolithic_ms += o.monolithic_ms;
+    report.work_ms += o.monolithic_ms + o.sub.other_ms;
+    for (double ms : o.sub.phase_ms) report.work_ms += ms;
+    report.critical_path_ms = std::max(report.critical_path_ms, o.sub.critical_ms);
+  }
+  return report;
+}
+
+}  // namespace rbpart

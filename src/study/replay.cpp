@@ -1,0 +1,160 @@
+#include "study/replay.hpp"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "core/timer.hpp"
+#include "partition/partition.hpp"
+#include "solve/solve.hpp"
+#include "solve/substructured.hpp"
+
+namespace rbpart {
+
+namespace {
+
+enum Phase { kPartition, kRefine, kSolve, kWork, kCriticalPath, kPhases };
+using Sample = std::array<double, kPhases>;
+
+double median(std::vector<double>& v) {
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  if (v.size() % 2) return v[mid];
+  return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + mid));
+}
+
+double lambda_error(const std::vector<double>& lambda, const std::vector<double>& live) {
+  double diff = 0, scale = 0;
+  for (std::size_t j = 0; j < live.size(); ++j) {
+    diff = std::max(diff, std::abs(lambda[j] - live[j]));
+    scale = std::max(scale, std::abs(live[j]));
+  }
+  return scale > 0 ? diff / scale : diff;
+}
+
+// Sub-systems holding at least one row, so that bodies in free flight (graph nodes without rows,
+// parts of their own) count for neither the direct baseline's islands nor the partitions.
+int parts_with_rows(const StepProblem& p, const Partition& partition, std::vector<char>& seen) {
+  seen.assign(partition.part_count, 0);
+  int parts = 0;
+  for (int body : p.islands.bodies) {
+    char& s = seen[partition.part_of[p.graph.node_of[body]]];
+    parts += !s;
+    s = 1;
+  }
+  return parts;
+}
+
+class Runner {
+ public:
+  Runner(const SolverParams& solver, const PartitionParams& partition) : direct_(solver), sub_(solver), base_(partition) {
+    direct_.kind = SolverKind::Direct;
+    sub_.kind = SolverKind::Substructured;
+  }
+
+  // One solve of `p` by `c`; the counts are filled in only when `measure` is set (first repeat).
+  Sample run(const StepProblem& p, const StudyConfig& c, bool measure, StepMeasure& m, int& mismatches) {
+    Sample sample{};
+    rows_ = p.rows;  // untimed: every solve starts from the recorded warm start
+    if (c.direct()) {
+      direct_.threads = c.threads;
+      const Timer t;
+      const SolveReport report = solve_direct(rows_, p.bodies, p.islands, direct_);
+      sample[kSolve] = t.ms();
+      if (!measure) return sample;
+      m.parts = static_cast<int>(p.islands.count());
+      m.fallbacks = report.failures;
+      // The fairness check: the replayed baseline must be the live solve, bit for bit.
+      if (rows_.lambda.size() != p.live_lambda.size() ||
+          (!rows_.lambda.empty() &&
+           std::memcmp(rows_.lambda.data(), p.live_lambda.data(), rows_.lambda.size() * sizeof(double)) != 0))
+        ++mismatches;
+    } else {
+      PartitionParams params = base_;
+      params.partitioner = c.partitioner;
+      params.refiner = c.refiner;
+      params.nmax = c.nmax;
+      sub_.threads = c.threads;
+      { const Timer t; partition_graph(p.graph, params, partition_); sample[kPartition] = t.ms(); }
+      { const Timer t; refine_partition(p.graph, params, partition_); sample[kRefine] = t.ms(); }
+      SubstructuredReport report;
+      {
+        const Timer t;
+        report = solve_substructured(rows_, p.bodies, p.islands, p.graph, partition_, sub_);
+        sample[kSolve] = t.ms();
+      }
+      sample[kWork] = report.work_ms;
+      sample[kCriticalPath] = report.critical_path_ms;
+      if (!measure) return sample;
+      const PartitionQuality q = measure_partition(p.graph, partition_);
+      m.parts = parts_with_rows(p, partition_, seen_);
+      m.interface_rows = q.interface_rows;
+      m.interface_bodies = q.interface_bodies;
+      m.edge_cut = q.edge_cut;
+      m.loop_iterations = report.loop_iterations;
+      m.fallbacks = report.fallbacks;
+    }
+    m.lambda_error = lambda_error(rows_.lambda, p.live_lambda);
+    return sample;
+  }
+
+ private:
+  SolverParams direct_, sub_;
+  PartitionParams base_;
+  Rows rows_;
+  Partition partition_;
+  std::vector<char> seen_;
+};
+
+}  // namespace
+
+ReplayResult replay_trajectory(const Trajectory& trajectory, const std::vector<StudyConfig>& configs, int repeats,
+                               const SolverParams& solver_params, const PartitionParams& partition_params,
+                               const std::function<void()>& on_run) {
+  const std::size_t steps = trajectory.steps.size();
+  ReplayResult result;
+  result.measures.assign(configs.size(), std::vector<StepMeasure>(steps));
+  Runner runner(solver_params, partition_params);
+
+  std::vector<int> thread_counts;
+  for (const StudyConfig& c : configs)
+    if (std::find(thread_counts.begin(), thread_counts.end(), c.threads) == thread_counts.end())
+      thread_counts.push_back(c.threads);
+
+  std::vector<std::size_t> group;                      // the configurations of one thread count
+  std::vector<std::vector<Sample>> samples;            // [config in group][repeat]
+  std::vector<double> values(repeats);
+  for (int threads : thread_counts) {
+    // One limit for all the group's steps: changing it between solves would make the first solve
+    // after each change pay for the worker arena's reconfiguration.
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    group.clear();
+    for (std::size_t c = 0; c < configs.size(); ++c)
+      if (configs[c].threads == threads) group.push_back(c);
+    samples.assign(group.size(), std::vector<Sample>(repeats));
+    for (std::size_t s = 0; s < steps; ++s) {
+      const StepProblem& problem = trajectory.steps[s];
+      for (int r = 0; r < repeats; ++r)
+        for (std::size_t k = 0; k < group.size(); ++k) {
+          const std::size_t g = (k + static_cast<std::size_t>(r)) % group.size();
+          const std::size_t c = group[g];
+          samples[g][r] = runner.run(problem, configs[c], r == 0, result.measures[c][s], result.direct_mismatches);
+          if (on_run) on_run();
+        }
+      for (std::size_t g = 0; g < group.size(); ++g) {
+        StepMeasure& m = result.measures[group[g]][s];
+        double* const fields[kPhases] = {&m.partition_ms, &m.refine_ms, &m.solve_ms, &m.work_ms, &m.critical_path_ms};
+        for (int phase = 0; phase < kPhases; ++phase) {
+          for (int r = 0; r < repeats; ++r) values[r] = samples[g][r][phase];
+          *fields[phase] = median(values);
+        }
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace rbpart

@@ -1,0 +1,49 @@
+#pragma once
+// The study's tables: per-step medians (steps.csv), their means per scene and configuration
+// (table1.csv, table1.md, scaling.csv). Formats are described in docs/study.md.
+#include <string>
+#include <vector>
+
+#include "study/replay.hpp"
+
+namespace rbpart {
+
+// One scene's replay, with what the tables need to know about the scene.
+struct SceneResult {
+  std::string label;
+  int rocks = 0;              // Rock Pile scaling entries, else 0
+  int dynamic_bodies = 0;
+  int simulated_steps = 0;
+  std::vector<int> steps;     // recorded step numbers
+  std::vector<int> rows;      // rows of each recorded step
+  std::vector<StudyConfig> configs;
+  ReplayResult replay;
+  double capture_ms = 0, replay_ms = 0;
+};
+
+// Means over a scene's recorded steps of one configuration's per-step medians.
+struct ConfigSummary {
+  StudyConfig config;
+  double mean_solve_ms = 0, max_solve_ms = 0, mean_partition_ms = 0, mean_refine_ms = 0;
+  double mean_work_ms = 0, mean_critical_path_ms = 0;  // substructured only
+  double mean_parts = 0, mean_interface_rows = 0, mean_interface_bodies = 0, mean_edge_cut = 0;
+  double mean_loop_iterations = 0;
+  int fallbacks = 0;          // summed over the steps
+  double max_lambda_error = 0;
+  // mean_solve_ms / that of MinDP unrefined with the same threads (and n_max; the first n_max for
+  // the direct baseline), from the same recorded steps and repeats.
+  double solve_vs_mindp = 0;
+};
+
+std::vector<ConfigSummary> summarize(const SceneResult& scene);
+
+// CSV with a header line; numbers in round-trip form, so that a reader recomputes the table's
+// means and ratios from steps.csv exactly.
+std::string steps_csv_header();
+std::string steps_csv_rows(const SceneResult& scene);
+std::string table1_csv(const std::vector<SceneResult>& scenes);
+std::string scaling_csv(const std::vector<SceneResult>& scaling);
+// `context` (machine, preset, protocol) is printed above the tables.
+std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::string& context);
+
+}  // namespace rbpart

@@ -1,0 +1,388 @@
+#include "study/study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "core/timer.hpp"
+#include "io/atomic_file.hpp"
+#include "io/run_params.hpp"
+#include "io/scene_json.hpp"
+#include "io/text_format.hpp"
+#include "partition/partition.hpp"
+#include "scenes/scenes.hpp"
+#include "study/capture.hpp"
+#include "study/machine.hpp"
+#include "study/report.hpp"
+
+namespace rbpart {
+
+namespace {
+
+const SceneInfo* builtin(const std::string& name) {
+  for (const SceneInfo& info : builtin_scenes())
+    if (info.name == name) return &info;
+  return nullptr;
+}
+
+// Two entries with equal keys are the same simulation: a built-in scene with every parameter's
+// effective value, or a file. The scaling study reuses a Table 1 scene of equal key.
+std::string scene_key(const StudyScene& s) {
+  const SceneInfo* info = builtin(s.source);
+  if (!info) return "file:" + s.source;
+  std::map<std::string, std::string> values;
+  for (const SceneParameter& p : info->parameters) values[p.name] = round_trip(p.value);
+  for (const auto& [key, text] : s.overrides) values[key] = round_trip(std::strtod(text.c_str(), nullptr));
+  std::string out = s.source;
+  for (const auto& [key, value] : values) out += ';' + key + '=' + value;
+  return out;
+}
+
+StudyScene scaling_scene(const StudySpec& spec, int rocks) {
+  std::string text = "rock_pile:rocks=" + std::to_string(rocks);
+  for (const auto& [key, value] : spec.scaling_overrides) text += ':' + key + '=' + value;
+  StudyScene scene = parse_study_scene(text);
+  scene.rocks = rocks;
+  return scene;
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+struct Run {
+  StudyScene scene;
+  std::vector<int> scaling_rocks;  // scaling points this run also provides (a reused Table 1 scene)
+  bool table1 = false;
+};
+
+class StudyWriter {
+ public:
+  StudyWriter(const StudySpec& spec, std::string dir, const std::vector<StudyConfig>& configs)
+      : spec_(spec), dir_(std::move(dir)), machine_(machine_info()), started_(utc_now()) {
+    for (const StudyConfig& c : configs)
+      if (std::find(threads_.begin(), threads_.end(), c.threads) == threads_.end()) threads_.push_back(c.threads);
+  }
+
+  void add(const SceneResult& result, const Run& run) {
+    if (run.table1) table1_.push_back(result);
+    for (const int rocks : run.scaling_rocks) {
+      scaling_.push_back(result);
+      scaling_.back().rocks = rocks;
+    }
+    std::stable_sort(scaling_.begin(), scaling_.end(),
+                     [](const SceneResult& a, const SceneResult& b) { return a.rocks < b.rocks; });
+    steps_ += steps_csv_rows(result);
+    nlohmann::ordered_json scene;
+    scene["label"] = result.label;
+    scene["dynamic_bodies"] = result.dynamic_bodies;
+    scene["simulated_steps"] = result.simulated_steps;
+    scene["recorded_steps"] = result.steps.size();
+    scene["capture_s"] = std::round(result.capture_ms) / 1000;
+    scene["replay_s"] = std::round(result.replay_ms) / 1000;
+    scenes_.push_back(scene);
+    for (const StudyConfig& c : result.configs) direct_replays_ += c.direct() ? static_cast<int>(result.steps.size()) : 0;
+    direct_mismatches_ += result.replay.direct_mismatches;
+  }
+
+  int direct_mismatches() const { return direct_mismatches_; }
+
+  // Every output, each atomically: the whole study so far.
+  void write(bool complete) const {
+    write_file_atomically(path("machine.json"), pretty_json(machine_json(complete)));
+    write_file_atomically(path("table1.csv"), table1_csv(table1_));
+    write_file_atomically(path("table1.md"), table1_markdown(table1_, context()));
+    write_file_atomically(path("steps.csv"), steps_);
+    write_file_atomically(path("scaling.csv"), scaling_csv(scaling_));
+  }
+
+ private:
+  std::string path(const char* name) const { return (std::filesystem::path(dir_) / name).string(); }
+
+  std::string context() const {
+    std::string threads;
+    for (const int t : threads_) threads += (threads.empty() ? "" : ", ") + std::to_string(t);
+    return "Preset `" + spec_.preset + "` on " + machine_.cpu + " (" + std::to_string(machine_.logical_cpus) +
+           " hardware threads), " + machine_.compiler + ", " + machine_.build_type + ", git " +
+           machine_.git_revision + (machine_.git_dirty ? " (modified)" : "") + ". Solver threads: " + threads +
+           ".\n\nEvery configuration solved the same recorded step problems (the monolithic direct solver's "
+           "trajectory); times are the mean over the recorded steps of each step's median over " +
+           std::to_string(spec_.repeats) + (spec_.repeats == 1 ? " run" : " runs") +
+           ". *vs MinDP*: change of the mean solve time against MinDP without refinement, same steps and "
+           "repeats. Parts count sub-systems with at least one row (islands for the direct solver).\n";
+  }
+
+  nlohmann::ordered_json machine_json(bool complete) const {
+    nlohmann::ordered_json j;
+    j["preset"] = spec_.preset;
+    j["complete"] = complete;
+    j["started"] = started_;
+    j["written"] = utc_now();
+    j["cpu"] = machine_.cpu;
+    j["logical_cpus"] = machine_.logical_cpus;
+    j["physical_cores"] = machine_.physical_cores;
+    j["threads"] = threads_;
+    j["hostname"] = machine_.hostname;
+    j["compiler"] = machine_.compiler;
+    j["build_type"] = machine_.build_type;
+    j["git_revision"] = machine_.git_revision;
+    j["git_dirty"] = machine_.git_dirty;
+    nlohmann::ordered_json study;
+    nlohmann::ordered_json labels = nlohmann::ordered_json::array();
+    for (const StudyScene& s : spec_.scenes) labels.push_back(s.label);
+    study["scenes"] = labels;
+    study["scaling_rocks"] = spec_.scaling_rocks;
+    study["steps"] = spec_.steps > 0 ? nlohmann::ordered_json(spec_.steps) : nlohmann::ordered_json("scene default");
+    study["every"] = spec_.every;
+    study["repeats"] = spec_.repeats;
+    nlohmann::ordered_json partitioners = nlohmann::ordered_json::array(), refiners = nlohmann::ordered_json::array();
+    for (const PartitionerKind p : spec_.partitioners) partitioners.push_back(partitioner_name(p));
+    for (const RefinerKind r : spec_.refiners) refiners.push_back(refiner_name(r));
+    study["partitioners"] = partitioners;
+    study["refiners"] = refiners;
+    study["nmax"] = spec_.nmax;
+    j["study"] = study;
+    nlohmann::ordered_json params;
+    for (const auto& [key, value] : run_parameters(spec_.step_params, spec_.solver_params))
+      if (key != "solver" && key != "threads") params[key] = value;
+    params["tau_mr"] = round_trip(spec_.partition_params.tau_mr);
+    params["tau_mix"] = round_trip(spec_.partition_params.tau_mix);
+    j["parameters"] = params;
+    j["replay_check"] = {{"direct_replays", direct_replays_},
+                         {"bit_identical_to_live_run", direct_replays_ - direct_mismatches_}};
+    j["scenes"] = scenes_;
+    return j;
+  }
+
+  const StudySpec& spec_;
+  std::string dir_;
+  MachineInfo machine_;
+  std::string started_;
+  std::vector<int> threads_;
+  std::vector<SceneResult> table1_, scaling_;
+  std::string steps_ = steps_csv_header();
+  std::vector<nlohmann::ordered_json> scenes_;
+  int direct_replays_ = 0, direct_mismatches_ = 0;
+};
+
+void log_scene(std::FILE* log, const SceneResult& r, std::size_t repeats) {
+  if (!log) return;
+  const std::vector<ConfigSummary> summary = summarize(r);
+  const ConfigSummary* best = nullptr;
+  const ConfigSummary* direct = nullptr;
+  for (const ConfigSummary& s : summary) {
+    if (s.config.direct()) {
+      if (!direct) direct = &s;
+    } else if (!best || s.mean_solve_ms < best->mean_solve_ms) {
+      best = &s;
+    }
+  }
+  std::fprintf(log, "bench: %s: %d bodies, %zu of %d steps replayed, %zu configurations x %zu repeats (capture %.1f s, replay %.1f s)",
+               r.label.c_str(), r.dynamic_bodies, r.steps.size(), r.simulated_steps, r.configs.size(), repeats,
+               r.capture_ms / 1000, r.replay_ms / 1000);
+  if (best && direct)
+    std::fprintf(log, "; fastest %s+%s %.3f ms (%+.0f %% vs MinDP), direct %.3f ms", partitioner_name(best->config.partitioner),
+                 refiner_name(best->config.refiner), best->mean_solve_ms, 100 * (best->solve_vs_mindp - 1),
+                 direct->mean_solve_ms);
+  std::fprintf(log, "\n");
+  std::fflush(log);
+}
+
+}  // namespace
+
+StudyScene parse_study_scene(const std::string& text) {
+  if (text.empty()) throw InputError("--scenes: empty scene name");
+  StudyScene scene;
+  scene.label = text;
+  if (!builtin(text) && std::filesystem::is_regular_file(text)) {
+    scene.source = text;
+    return scene;
+  }
+  std::size_t start = 0, colon = text.find(':');
+  scene.source = text.substr(0, colon);
+  while (colon != std::string::npos) {
+    start = colon + 1;
+    colon = text.find(':', start);
+    const std::string item = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("scene '" + text + "': expected name:key=value[:key=value...], got '" + item + "'");
+    scene.overrides.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+  }
+  return scene;
+}
+
+SceneDef make_study_scene(const StudyScene& scene) {
+  if (builtin(scene.source)) return make_builtin_scene(scene.source, scene.overrides);
+  if (!scene.overrides.empty() || !std::ifstream(scene.source))
+    throw InputError("scene '" + scene.label + "': neither a built-in scene (rbpart scenes) nor a readable file");
+  return load_scene_file(scene.source);
+}
+
+StudySpec study_preset(const std::string& name) {
+  StudySpec spec;
+  spec.preset = name;
+  spec.partitioners = {PartitionerKind::Bfs, PartitionerKind::MinDp, PartitionerKind::MaxDp, PartitionerKind::Mr,
+                       PartitionerKind::Mix, PartitionerKind::Metis};
+  spec.refiners = {RefinerKind::None, RefinerKind::Kl, RefinerKind::Fm};
+  spec.nmax = {kStudyNmax};
+  spec.threads = {std::max(1, static_cast<int>(std::thread::hardware_concurrency()))};
+  spec.repeats = 3;
+  if (name == "paper") {
+    for (const char* s : {"chain_drop", "log_tower", "rock_pile", "large_rock_pile"})
+      spec.scenes.push_back(parse_study_scene(s));
+    spec.scaling_rocks = {50, 100, 200, 400, 800};
+  } else if (name == "quick") {
+    // Small versions of the four scenes over 40 steps (the chain released just above its bar, the
+    // piles in four layers, so that contacts form at once), every other step replayed. Their
+    // islands hold tens of bodies, so n_max is smaller than the paper's for every configuration to
+    // partition, refine and couple sub-systems.
+    for (const char* s : {"chain_drop:links=30:height=1.15", "log_tower:layers=8", "rock_pile:rocks=60:layers=4",
+                          "large_rock_pile:rocks=90:layers=4"})
+      spec.scenes.push_back(parse_study_scene(s));
+    spec.scaling_rocks = {30, 60, 120};
+    spec.scaling_overrides = {{"layers", "4"}};
+    spec.steps = 40;
+    spec.every = 2;
+    spec.nmax = {kQuickNmax};
+  } else {
+    throw InputError("unknown preset '" + name + "' (choose paper or quick)");
+  }
+  return spec;
+}
+
+void validate_study(const StudySpec& spec) {
+  if (spec.scenes.empty() && spec.scaling_rocks.empty()) throw InputError("--scenes: no scene to study");
+  if (spec.partitioners.empty()) throw InputError("--partitioners: empty list");
+  for (const PartitionerKind p : spec.partitioners)
+    if (p == PartitionerKind::None)
+      throw InputError("--partitioners: 'none' is not a partitioner (the direct baseline is always measured)");
+  if (spec.refiners.empty()) throw InputError("--refine: empty list");
+  if (spec.nmax.empty()) throw InputError("--nmax: empty list");
+  for (const int n : spec.nmax)
+    if (n < 1) throw InputError("--nmax: must be at least 1 (got " + std::to_string(n) + ")");
+  if (spec.threads.empty()) throw InputError("--threads: empty list");
+  for (const int t : spec.threads)
+    if (t < 1) throw InputError("--threads: must be at least 1 (got " + std::to_string(t) + ")");
+  if (spec.repeats < 1) throw InputError("--repeats: must be at least 1 (got " + std::to_string(spec.repeats) + ")");
+  if (spec.every < 1) throw InputError("--every: must be at least 1 (got " + std::to_string(spec.every) + ")");
+  if (spec.steps < 0) throw InputError("--steps: must be positive (got " + std::to_string(spec.steps) + ")");
+  if (spec.steps > 0 && spec.steps < spec.every)
+    throw InputError("--steps " + std::to_string(spec.steps) + " records no step with --every " +
+                     std::to_string(spec.every));
+  for (const int rocks : spec.scaling_rocks)
+    if (rocks < 1) throw InputError("--scaling: rock counts must be at least 1 (got " + std::to_string(rocks) + ")");
+  for (std::size_t i = 0; i < spec.scenes.size(); ++i) {
+    // Labels are CSV fields and Markdown headings.
+    if (spec.scenes[i].label.find_first_of(",\"\n") != std::string::npos)
+      throw InputError("--scenes: '" + spec.scenes[i].label + "' contains a comma, quote or newline");
+    for (std::size_t k = 0; k < i; ++k)
+      if (spec.scenes[i].label == spec.scenes[k].label)
+        throw InputError("--scenes: '" + spec.scenes[i].label + "' is listed twice");
+  }
+}
+
+std::vector<StudyConfig> study_configs(const StudySpec& spec) {
+  std::vector<StudyConfig> configs;
+  const auto add = [&configs](const StudyConfig& c) {
+    for (const StudyConfig& e : configs)
+      if (e.partitioner == c.partitioner && e.refiner == c.refiner && e.nmax == c.nmax && e.threads == c.threads)
+        return;
+    configs.push_back(c);
+  };
+  const auto listed = [&spec](PartitionerKind p) {
+    return std::find(spec.partitioners.begin(), spec.partitioners.end(), p) != spec.partitioners.end();
+  };
+  const bool mindp_none = listed(PartitionerKind::MinDp) &&
+                          std::find(spec.refiners.begin(), spec.refiners.end(), RefinerKind::None) != spec.refiners.end();
+  for (const int threads : spec.threads) {
+    add({PartitionerKind::None, RefinerKind::None, 0, threads});
+    for (const int nmax : spec.nmax) {
+      if (!mindp_none) add({PartitionerKind::MinDp, RefinerKind::None, nmax, threads});
+      for (const PartitionerKind p : spec.partitioners) {
+        if (p == PartitionerKind::Metis) continue;
+        for (const RefinerKind r : spec.refiners) add({p, r, nmax, threads});
+      }
+      if (listed(PartitionerKind::Metis)) add({PartitionerKind::Metis, RefinerKind::None, nmax, threads});
+    }
+  }
+  return configs;
+}
+
+void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log) {
+  validate_study(spec);
+  // Every scene is built once here, so that a bad name or parameter fails before hours of work.
+  std::vector<Run> runs;
+  for (const StudyScene& s : spec.scenes) {
+    make_study_scene(s);
+    runs.push_back({s, {}, true});
+  }
+  for (const int rocks : spec.scaling_rocks) {
+    const StudyScene s = scaling_scene(spec, rocks);
+    make_study_scene(s);
+    const auto same = std::find_if(runs.begin(), runs.end(), [&](const Run& r) { return scene_key(r.scene) == scene_key(s); });
+    if (same != runs.end()) same->scaling_rocks.push_back(rocks);
+    else runs.push_back({s, {rocks}, false});
+  }
+
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw InputError("--out '" + out_dir + "': " + ec.message());
+  // Figures of an earlier study in this directory would not match the new tables.
+  for (const char* figure : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"})
+    std::filesystem::remove(std::filesystem::path(out_dir) / figure, ec);
+  const std::vector<StudyConfig> configs = study_configs(spec);
+  StudyWriter writer(spec, out_dir, configs);
+  writer.write(false);  // fails now, not after the run, if the directory cannot be written
+
+  for (const Run& run : runs) {
+    const SceneDef scene = make_study_scene(run.scene);
+    const int steps = spec.steps > 0 ? spec.steps : scene.steps;
+    SceneResult result;
+    result.label = run.scene.label;
+    result.configs = configs;
+    {
+      Trajectory trajectory;
+      {
+        Progress progress(run.scene.label + ": capture", steps);
+        trajectory = capture_trajectory(scene, steps, spec.every, spec.step_params, spec.solver_params,
+                                        [&progress](int done) { progress.update(done); });
+      }
+      result.dynamic_bodies = trajectory.dynamic_bodies;
+      result.simulated_steps = trajectory.simulated_steps;
+      result.capture_ms = trajectory.capture_ms;
+      for (const StepProblem& p : trajectory.steps) {
+        result.steps.push_back(p.step);
+        result.rows.push_back(static_cast<int>(p.rows.size()));
+      }
+      const long total = static_cast<long>(trajectory.steps.size() * configs.size()) * spec.repeats;
+      Progress progress(run.scene.label + ": replay", total);
+      long done = 0;
+      const Timer timer;
+      result.replay = replay_trajectory(trajectory, configs, spec.repeats, spec.solver_params, spec.partition_params,
+                                        [&] { progress.update(++done); });
+      result.replay_ms = timer.ms();
+    }  // the recorded problems are freed before the next scene is captured
+    writer.add(result, run);
+    writer.write(false);
+    log_scene(log, result, static_cast<std::size_t>(spec.repeats));
+  }
+  writer.write(true);
+  if (log && writer.direct_mismatches() > 0)
+    std::fprintf(log, "bench: warning: %d replayed direct solves differ from the live run (machine.json replay_check)\n",
+                 writer.direct_mismatches());
+}
+
+}  // namespace rbpart

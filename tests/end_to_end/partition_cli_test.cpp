@@ -1,0 +1,233 @@
+// `rbpart partition` and the partition options of `rbpart simulate` as a user runs them: part files,
+// the JSON report, exit status 2 with one line naming the problem, nothing half written.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Two 4-cliques {1..4} and {5..8} (edge weight 2) bridged by 4-5 (weight 3), METIS fmt 1.
+const char* kTwoCliques =
+    "% two cliques\n"
+    "8 13 1\n"
+    "2 2 3 2 4 2\n"
+    "1 2 3 2 4 2\n"
+    "1 2 2 2 4 2\n"
+    "1 2 2 2 3 2 5 3\n"
+    "4 3 6 2 7 2 8 2\n"
+    "5 2 7 2 8 2\n"
+    "5 2 6 2 8 2\n"
+    "5 2 6 2 7 2\n";
+
+class PartitionCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("rbpart_partition_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    graph_ = write("g.graph", kTwoCliques);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  static std::string read(const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  // Runs `rbpart <args>`; stdout and stderr land in out_ and err_.
+  int rbpart(const std::string& args) {
+    const std::string command =
+        std::string(RBPART_CLI) + " " + args + " >" + path("stdout.txt") + " 2>" + path("stderr.txt");
+    const int raw = std::system(command.c_str());
+    out_ = read(path("stdout.txt"));
+    err_ = read(path("stderr.txt"));
+    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  }
+  // Exit 2, one stderr line containing `words`, no --out file.
+  void expect_rejected(const std::string& args, const std::string& words) {
+    EXPECT_EQ(rbpart(args + " --out " + path("p.part")), 2) << args << "\n" << err_;
+    EXPECT_NE(err_.find(words), std::string::npos) << args << "\n" << err_;
+    EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1) << err_;
+    EXPECT_FALSE(fs::exists(path("p.part")));
+  }
+
+  fs::path dir_;
+  std::string graph_, out_, err_;
+};
+
+TEST_F(PartitionCli, WritesPartsAndTheQualityReport) {
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner bfs --nmax 4 --out " + path("p.part") +
+                   " --report " + path("r.json")),
+            0)
+      << err_;
+  EXPECT_EQ(read(path("p.part")), "0\n0\n0\n0\n1\n1\n1\n1\n");
+  EXPECT_EQ(out_, "");
+  EXPECT_EQ(err_, "");
+  const std::string report = read(path("r.json"));
+  EXPECT_EQ(std::count(report.begin(), report.end(), '\n'), 1);
+  const nlohmann::json j = nlohmann::json::parse(report);
+  EXPECT_EQ(j["partitioner"], "bfs");
+  EXPECT_EQ(j["refiner"], "none");
+  EXPECT_EQ(j["nmax"], 4);
+  EXPECT_EQ(j["nodes"], 8);
+  EXPECT_EQ(j["edges"], 13);
+  EXPECT_EQ(j["parts"], 2);
+  EXPECT_EQ(j["min_bodies"], 4);
+  EXPECT_EQ(j["max_bodies"], 4);
+  EXPECT_EQ(j["mean_bodies"], 4.0);
+  EXPECT_EQ(j["edge_cut"], 3);        // the bridge's weight
+  EXPECT_EQ(j["interface_rows"], 3);  // rows = weights for a file's edges
+  EXPECT_EQ(j["interface_bodies"], 2);
+  EXPECT_GE(j["partition_ms"].get<double>(), 0.0);
+  EXPECT_GE(j["refine_ms"].get<double>(), 0.0);
+}
+
+TEST_F(PartitionCli, StdoutAndStderrWithoutOutputFiles) {
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner metis --refine fm --nmax 4"), 0) << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n1\n1\n1\n1\n");
+  EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1);
+  const nlohmann::json j = nlohmann::json::parse(err_);
+  EXPECT_EQ(j["partitioner"], "metis");
+  EXPECT_EQ(j["refiner"], "fm");
+  EXPECT_EQ(j["edge_cut"], 3);
+}
+
+TEST_F(PartitionCli, EveryPartitionerAndRefinerGivesAValidPartFile) {
+  for (const char* partitioner : {"bfs", "mindp", "maxdp", "mr", "mix", "metis"})
+    for (const char* refiner : {"none", "kl", "fm", "fm-rollback"}) {
+      const std::string args = std::string("partition --graph ") + graph_ + " --partitioner " + partitioner +
+                               " --refine " + refiner + " --nmax 3 --debug-checks";
+      ASSERT_EQ(rbpart(args), 0) << args << "\n" << err_;
+      std::istringstream lines(out_);
+      int count = 0, id = 0, parts = nlohmann::json::parse(err_)["parts"];
+      while (lines >> id) {
+        EXPECT_GE(id, 0);
+        EXPECT_LT(id, parts);
+        ++count;
+      }
+      EXPECT_EQ(count, 8) << args;
+    }
+}
+
+TEST_F(PartitionCli, MassesDriveMr) {
+  // A path of 8 (weights 1), masses 1 x4 then 100 x4; nmax 7. BFS: the first 7, then 1. MR (tau 10):
+  // the light half, then the heavy half.
+  const std::string path8 = write("p.graph", "8 7\n2\n1 3\n2 4\n3 5\n4 6\n5 7\n6 8\n7\n");
+  const std::string masses = write("m.txt", "1\n1\n1\n1\n100\n100\n100\n100\n");
+  ASSERT_EQ(rbpart("partition --graph " + path8 + " --masses " + masses + " --partitioner bfs --nmax 7"), 0) << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n0\n0\n0\n1\n");
+  ASSERT_EQ(rbpart("partition --graph " + path8 + " --masses " + masses + " --partitioner mr --nmax 7"), 0) << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n1\n1\n1\n1\n");
+  ASSERT_EQ(rbpart("partition --graph " + path8 + " --partitioner mr --nmax 7"), 0) << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n0\n0\n0\n1\n");  // default masses 1
+}
+
+TEST_F(PartitionCli, BadOptionsExitTwo) {
+  const std::string g = "partition --graph " + graph_;
+  expect_rejected(g + " --partitioner bfs --nmax 0", "--nmax must be at least 1");
+  expect_rejected(g + " --partitioner mr --nmax 4 --tau-mr 1", "--tau-mr must be greater than 1");
+  expect_rejected(g + " --partitioner mix --nmax 4 --tau-mix 0", "--tau-mix must lie in (0, 1)");
+  expect_rejected(g + " --partitioner mix --nmax 4 --tau-mix 1", "--tau-mix must lie in (0, 1)");
+  expect_rejected(g + " --partitioner kway --nmax 4", "unknown partitioner 'kway' (choose one of none, bfs");
+  expect_rejected(g + " --partitioner none --nmax 4", "--partitioner none makes no partition");
+  expect_rejected(g + " --partitioner bfs --refine sa --nmax 4", "unknown refiner 'sa'");
+  expect_rejected(g + " --nmax 4", "--partitioner is required");
+  expect_rejected(g + " --partitioner bfs --nmax four", "--nmax");
+  expect_rejected("partition --partitioner bfs", "--graph is required");
+}
+
+TEST_F(PartitionCli, BadFilesExitTwoNamingTheLine) {
+  const std::string bad = write("bad.graph", "3 2\n2 3\n1 3\n2\n");
+  expect_rejected("partition --partitioner bfs --graph " + bad, bad + ":2: edge 1-3 has no reverse");
+  const std::string self = write("self.graph", "2 1\n2\n2\n");
+  expect_rejected("partition --partitioner bfs --graph " + self, self + ":3: self loop on vertex 2");
+  const std::string word = write("word.graph", "2 1\n2\none\n");
+  expect_rejected("partition --partitioner bfs --graph " + word, word + ":3: neighbour 'one' is not an integer");
+  const std::string empty = write("empty.graph", "0 0\n");
+  expect_rejected("partition --partitioner bfs --graph " + empty, empty + ":1: empty graph");
+  const std::string masses = write("m.txt", "1\n1\n1\n1\n1\n0\n1\n1\n");
+  expect_rejected("partition --partitioner mr --graph " + graph_ + " --masses " + masses,
+                  masses + ":6: mass 0 is not positive");
+  expect_rejected("partition --partitioner bfs --graph " + path("missing.graph"), "missing.graph: cannot open");
+}
+
+TEST_F(PartitionCli, ReportAndOutNotLeftHalfWrittenOnBadInput) {
+  const std::string bad = write("bad.graph", "3 3\n2\n1 3\n2\n");
+  EXPECT_EQ(rbpart("partition --partitioner bfs --graph " + bad + " --out " + path("p.part") + " --report " +
+                   path("r.json")),
+            2);
+  EXPECT_FALSE(fs::exists(path("p.part")));
+  EXPECT_FALSE(fs::exists(path("r.json")));
+}
+
+// The simulate stage: stats carry the partition's columns and the run parameters name it.
+TEST_F(PartitionCli, SimulateReportsThePartitionPerStep) {
+  ASSERT_EQ(rbpart("simulate --scene rock_pile --set rocks=40 --steps 90 --solver pgs --partitioner mix --refine none "
+                   "--nmax 8 --quiet --stats " + path("s.csv")),
+            0)
+      << err_;
+  std::istringstream csv(read(path("s.csv")));
+  std::string line, header;
+  std::vector<std::string> params;
+  while (std::getline(csv, line) && line.rfind("# ", 0) == 0) params.push_back(line);
+  header = line;
+  for (const char* p : {"# partitioner=mix", "# refiner=none", "# nmax=8", "# tau_mix=0.5"})
+    EXPECT_NE(std::find(params.begin(), params.end(), p), params.end()) << p;
+  std::vector<std::string> columns;
+  std::stringstream h(header);
+  for (std::string c; std::getline(h, c, ',');) columns.push_back(c);
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(columns.begin(), columns.end(), name);
+    EXPECT_NE(it, columns.end()) << name;
+    return it - columns.begin();
+  };
+  const auto parts = column("parts"), rows = column("interface_rows"), bodies = column("interface_bodies"),
+             cut = column("edge_cut"), ms = column("partition_ms"), islands = column("islands");
+  int lines = 0, with_cut = 0, with_time = 0, more_parts_than_islands = 0;
+  while (std::getline(csv, line)) {
+    std::vector<double> v;
+    std::stringstream l(line);
+    for (std::string c; std::getline(l, c, ',');) v.push_back(std::stod(c));
+    ++lines;
+    with_cut += v[cut] > 0 && v[rows] > 0 && v[bodies] > 0;
+    with_time += v[ms] > 0;
+    more_parts_than_islands += v[parts] > v[islands];
+  }
+  EXPECT_EQ(lines, 90);
+  EXPECT_GT(with_cut, 0);
+  EXPECT_GT(with_time, 0);
+  EXPECT_GT(more_parts_than_islands, 0);
+}
+
+TEST_F(PartitionCli, SimulateRejectsBadPartitionOptions) {
+  const std::string s = "simulate --scene rock_pile --set rocks=4 --steps 2 --quiet --stats " + path("s.csv");
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {" --partitioner mix --nmax 0", "--nmax must be at least 1"},
+           {" --partitioner mix --tau-mix 1.5", "--tau-mix must lie in (0, 1)"},
+           {" --partitioner mr --tau-mr 0.5", "--tau-mr must be greater than 1"},
+           {" --partitioner foo", "unknown partitioner 'foo'"},
+           {" --partitioner bfs --refine bar", "unknown refiner 'bar'"}}) {
+    EXPECT_EQ(rbpart(s + args), 2) << args;
+    EXPECT_NE(err_.find(words), std::string::npos) << err_;
+    EXPECT_FALSE(fs::exists(path("s.csv")));
+  }
+}
+
+}  // namespace

@@ -1,0 +1,139 @@
+// Fast impacts through whole steps (DESIGN.md §1-2): bodies that move further in one step than the
+// contact margin, or than the thickness of what they hit, must be stopped by the speculative
+// contacts (collide.hpp: the pair's margin grows with its approach speed) rather than tunnel or
+// sink, and the margin must not grow for bodies at rest.
+#include <gtest/gtest.h>
+#include <rbpart/world.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "scene/bodies.hpp"
+#include "scenes/scenes.hpp"
+
+namespace rbpart {
+namespace {
+
+constexpr double kPenetration = 0.01;  // issue #3: max penetration on every scene
+
+BodyDef static_slab(const Vec3& centre, const Vec3& half) {
+  BodyDef b;
+  b.name = "slab";
+  b.is_static = true;
+  b.shape.type = ShapeType::Box;
+  b.shape.half_extents = half;
+  b.position = centre;
+  return b;
+}
+
+// Runs `w` for `steps` steps; returns the deepest penetration any step reported.
+double run(World& w, int steps) {
+  double deepest = 0;
+  for (int i = 0; i < steps; ++i) deepest = std::max(deepest, w.step().max_penetration);
+  return deepest;
+}
+
+TEST(Impact, FastSphereStopsOnTheGround) {
+  // At 20 m/s the sphere moves 0.33 m per step, more than its diameter: without a speculative
+  // contact it would first be seen 0.1 m or more inside the ground.
+  const double r = 0.1;
+  for (double speed : {10.0, 15.0, 20.0}) {
+    SceneDef scene;
+    scene.bodies.push_back(static_slab(Vec3(0, 0, -0.5), Vec3(5, 5, 0.5)));
+    BodyDef s;
+    s.name = "ball";
+    s.shape.radius = r;
+    s.density = 1000;
+    s.position = Vec3(0.2, -0.1, 1.0);
+    s.velocity = Vec3(0, 0, -speed);
+    scene.bodies.push_back(s);
+    World w(scene);
+    SCOPED_TRACE(speed);
+    double lowest = INFINITY, deepest = 0;
+    for (int i = 0; i < 60; ++i) {
+      deepest = std::max(deepest, w.step().max_penetration);
+      lowest = std::min(lowest, w.bodies().x[1].z());
+    }
+    EXPECT_LE(deepest, kPenetration);
+    EXPECT_GE(lowest, r - kPenetration);  // never further into the ground than 1 cm
+    EXPECT_NEAR(w.bodies().x[1].z(), r, 1e-3);
+    EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+  }
+}
+
+TEST(Impact, FastBoxDoesNotTunnelThroughAThinPlate) {
+  // A 1 cm plate, 20 m/s: the box (0.2 m tall) would pass it within one step of 0.34 m, from 7 cm
+  // above it to 6 cm below (the start is chosen so).
+  const double plate_top = 0.005, half = 0.1;
+  for (ShapeType type : {ShapeType::Box, ShapeType::Sphere}) {
+    SceneDef scene;
+    scene.bodies.push_back(static_slab(Vec3(0, 0, 0), Vec3(1, 1, plate_top)));
+    BodyDef b;
+    b.name = "falling";
+    b.shape.type = type;
+    b.shape.half_extents = Vec3::Constant(half);
+    b.shape.radius = half;
+    b.density = 500;
+    b.position = Vec3(0.1, 0.2, 0.845);
+    b.velocity = Vec3(0, 0, -20);
+    scene.bodies.push_back(b);
+    World w(scene);
+    SCOPED_TRACE(type == ShapeType::Box ? "box" : "sphere");
+    EXPECT_LE(run(w, 90), kPenetration);
+    EXPECT_NEAR(w.bodies().x[1].z(), plate_top + half, kPenetration);
+    EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+  }
+}
+
+TEST(Impact, CapsulesThrownAtEachOtherCollideInelastically) {
+  // Two chain-link capsules (radius 2.5 cm) head-on at a closing speed of 30 m/s (0.5 m per step,
+  // ten times their thickness), no gravity, side by side or crossed. Contacts have no restitution
+  // and the contact line passes through both centres: they end at the common velocity
+  // (m_a v_a + m_b v_b) / (m_a + m_b), unturned, touching, in their original order.
+  const double ma = 1, mb = 3, va = 20, vb = -10, r = 0.025;
+  const Quat along_y(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()));  // motion along x
+  for (bool crossed : {false, true}) {
+    SceneDef scene;
+    scene.gravity = Vec3::Zero();
+    for (int k = 0; k < 2; ++k) {
+      BodyDef c;
+      c.name = k == 0 ? "a" : "b";
+      c.shape.type = ShapeType::Capsule;
+      c.shape.radius = r;
+      c.shape.half_length = 0.05;
+      c.mass = k == 0 ? ma : mb;
+      c.position = Vec3(k == 0 ? -0.6 : 0.6, 0, 0);
+      c.orientation = k == 1 && crossed ? Quat::Identity() : along_y;
+      c.velocity = Vec3(k == 0 ? va : vb, 0, 0);
+      scene.bodies.push_back(c);
+    }
+    World w(scene);
+    SCOPED_TRACE(crossed ? "crossed" : "side by side");
+    double deepest = 0;
+    for (int i = 0; i < 30; ++i) {
+      deepest = std::max(deepest, w.step().max_penetration);
+      ASSERT_LT(w.bodies().x[0].x(), w.bodies().x[1].x()) << "passed through at step " << i + 1;
+    }
+    EXPECT_LE(deepest, kPenetration);
+    const double common = (ma * va + mb * vb) / (ma + mb);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_NEAR(w.bodies().v[k].x(), common, 1e-6);
+      EXPECT_LT(w.bodies().w[k].norm(), 1e-6);
+    }
+    EXPECT_NEAR(w.bodies().x[1].x() - w.bodies().x[0].x(), 2 * r, kPenetration);
+  }
+}
+
+TEST(Impact, RestingStackKeepsItsContacts) {
+  // At rest the margin is the contact margin: a ten-cube stack has exactly 4 corner contacts under
+  // each cube (12 rows each), every step, and no pair of cubes two apart (0.5 m gap) ever appears.
+  World w(make_builtin_scene("box_stack", {}));
+  for (int i = 0; i < 120; ++i) {
+    const StepStats& s = w.step();
+    ASSERT_EQ(s.contacts, 40) << "step " << i + 1;
+    ASSERT_EQ(s.rows, 120) << "step " << i + 1;
+  }
+}
+
+}  // namespace
+}  // namespace rbpart

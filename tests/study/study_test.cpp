@@ -1,0 +1,289 @@
+// The study (issue #6): recorded problems replay the live run exactly; a tiny study writes every
+// table row and figure; the relative column is the ratio of the per-step medians in steps.csv.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <rbpart/world.hpp>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "core/error.hpp"
+#include "partition/partition.hpp"
+#include "solve/solve.hpp"
+#include "study/capture.hpp"
+#include "study/figures.hpp"
+#include "study/study.hpp"
+
+namespace rbpart {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// A run with no observer is the reference: recording must not perturb the run, and the recorded
+// problem must hold everything the direct solver reads.
+TEST(Capture, DirectSolveOfARecordedProblemReproducesTheLiveImpulsesBitForBit) {
+  // Each scene has loaded rows within the steps checked: the chain falls onto its bar at once.
+  for (const char* text : {"chain_drop:links=12:height=1.15", "rock_pile:rocks=24:layers=2", "log_tower:layers=4"}) {
+    SCOPED_TRACE(text);
+    const SceneDef scene = make_study_scene(parse_study_scene(text));
+    constexpr int kSteps = 24, kEvery = 3;
+    const Trajectory trajectory = capture_trajectory(scene, kSteps, kEvery, StepParams{}, SolverParams{});
+    ASSERT_EQ(trajectory.steps.size(), static_cast<std::size_t>(kSteps / kEvery));
+
+    World live(scene);
+    std::size_t k = 0, rows_checked = 0;
+    bool warm_started = false, loaded = false;
+    for (int s = 1; s <= kSteps; ++s) {
+      live.step();
+      if (s % kEvery) continue;
+      const StepProblem& p = trajectory.steps[k++];
+      ASSERT_EQ(p.step, s);
+      EXPECT_TRUE(same_bits(p.live_lambda, live.rows().lambda)) << "step " << s;
+      Rows rows = p.rows;
+      solve_direct(rows, p.bodies, p.islands, SolverParams{});
+      EXPECT_TRUE(same_bits(rows.lambda, live.rows().lambda)) << "step " << s;
+      EXPECT_TRUE(rows.state == live.rows().state) << "step " << s;
+      rows_checked += rows.size();
+      // The recorded rows carry the warm start, not the answer: replays start where the live run did.
+      for (std::size_t j = 0; j < rows.size(); ++j) {
+        warm_started |= p.rows.lambda[j] != rows.lambda[j];
+        loaded |= rows.lambda[j] != 0;
+      }
+    }
+    EXPECT_GT(rows_checked, 50u);
+    EXPECT_TRUE(warm_started);
+    EXPECT_TRUE(loaded);
+  }
+}
+
+TEST(StudyScene, ParsesNamesOverridesAndRejectsMalformedOnes) {
+  const StudyScene s = parse_study_scene("rock_pile:rocks=10:seed=2");
+  EXPECT_EQ(s.source, "rock_pile");
+  EXPECT_EQ(s.label, "rock_pile:rocks=10:seed=2");
+  ASSERT_EQ(s.overrides.size(), 2u);
+  EXPECT_EQ(s.overrides[1], (std::pair<std::string, std::string>("seed", "2")));
+  EXPECT_EQ(make_study_scene(s).bodies.size() - make_study_scene(parse_study_scene("rock_pile:rocks=4")).bodies.size(), 6u);
+  EXPECT_THROW(parse_study_scene("rock_pile:rocks"), InputError);
+  EXPECT_THROW(parse_study_scene(""), InputError);
+  EXPECT_THROW(make_study_scene(parse_study_scene("no_such_scene")), InputError);
+  EXPECT_THROW(make_study_scene(parse_study_scene("rock_pile:bogus=1")), InputError);
+}
+
+TEST(StudySpec, PresetsAndTheirGrid) {
+  EXPECT_THROW(study_preset("nope"), InputError);
+  const StudySpec paper = study_preset("paper");
+  EXPECT_EQ(paper.scenes.size(), 4u);
+  EXPECT_EQ(paper.scaling_rocks, (std::vector<int>{50, 100, 200, 400, 800}));
+  EXPECT_EQ(paper.repeats, 3);
+  // Per thread count: the direct baseline, five partitioners x {none, KL, FM}, METIS unrefined.
+  const std::vector<StudyConfig> configs = study_configs(paper);
+  ASSERT_EQ(configs.size(), 17u);
+  EXPECT_TRUE(configs[0].direct());
+  EXPECT_EQ(configs[16].partitioner, PartitionerKind::Metis);
+  EXPECT_EQ(configs[16].refiner, RefinerKind::None);
+  std::set<std::pair<PartitionerKind, RefinerKind>> grid;
+  for (const StudyConfig& c : configs) grid.emplace(c.partitioner, c.refiner);
+  EXPECT_EQ(grid.size(), 17u);
+  validate_study(study_preset("quick"));
+
+  // The reference of the relative column is added when the lists leave it out.
+  StudySpec spec = paper;
+  spec.partitioners = {PartitionerKind::Mix};
+  spec.refiners = {RefinerKind::Fm};
+  spec.threads = {1, 2};
+  const std::vector<StudyConfig> small = study_configs(spec);
+  ASSERT_EQ(small.size(), 6u);
+  EXPECT_EQ(small[1].partitioner, PartitionerKind::MinDp);
+  EXPECT_EQ(small[1].refiner, RefinerKind::None);
+  EXPECT_EQ(small[3].threads, 2);
+
+  for (auto bad : std::vector<void (*)(StudySpec&)>{
+           [](StudySpec& s) { s.repeats = 0; }, [](StudySpec& s) { s.every = 0; },
+           [](StudySpec& s) { s.nmax = {0}; }, [](StudySpec& s) { s.threads = {}; },
+           [](StudySpec& s) { s.partitioners = {PartitionerKind::None}; }, [](StudySpec& s) { s.refiners.clear(); },
+           [](StudySpec& s) { s.steps = 2, s.every = 3; }, [](StudySpec& s) { s.scaling_rocks = {0}; },
+           [](StudySpec& s) { s.scenes.push_back(s.scenes[0]); }}) {
+    StudySpec s = paper;
+    bad(s);
+    EXPECT_THROW(validate_study(s), InputError);
+  }
+}
+
+// --- a tiny study, run once for the tests below ---------------------------------------------------
+
+using Row = std::map<std::string, std::string>;
+
+std::vector<Row> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<Row> rows;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream s(text);
+    std::string field;
+    while (std::getline(s, field, ',')) out.push_back(field);
+    if (!text.empty() && text.back() == ',') out.emplace_back();
+    return out;
+  };
+  if (!std::getline(in, line)) return rows;
+  header = split(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> fields = split(line);
+    EXPECT_EQ(fields.size(), header.size()) << line;
+    Row row;
+    for (std::size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string key(const Row& r) {
+  return r.at("scene") + "|" + r.at("solver") + "|" + r.at("partitioner") + "|" + r.at("refine") + "|" + r.at("nmax") +
+         "|" + r.at("threads");
+}
+
+class TinyStudy : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("rbpart_study_" + std::to_string(::getpid())));
+    fs::remove_all(*dir_);
+    spec_ = new StudySpec(study_preset("quick"));
+    spec_->preset = "tiny";
+    spec_->scenes = {parse_study_scene("chain_drop:links=10:height=1.15"), parse_study_scene("log_tower:layers=3"),
+                     parse_study_scene("rock_pile:rocks=6:layers=2")};
+    // 6 rocks is the Table 1 scene above (reused, not captured again); 10 rocks is captured.
+    spec_->scaling_rocks = {10, 6};
+    spec_->scaling_overrides = {{"layers", "2"}};
+    spec_->steps = 16;  // the rocks land at step 9
+    spec_->every = 4;
+    spec_->nmax = {4};
+    spec_->threads = {1};
+    spec_->repeats = 2;
+    run_study(*spec_, dir_->string(), nullptr);
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+    delete spec_;
+  }
+  static fs::path* dir_;
+  static StudySpec* spec_;
+};
+fs::path* TinyStudy::dir_ = nullptr;
+StudySpec* TinyStudy::spec_ = nullptr;
+
+TEST_F(TinyStudy, WritesEveryRowOfEveryTable) {
+  const std::vector<StudyConfig> configs = study_configs(*spec_);
+  ASSERT_EQ(configs.size(), 17u);
+  std::set<std::string> expected_configs;
+  for (const StudyConfig& c : configs)
+    expected_configs.insert(std::string(c.direct() ? "direct" : "substructured") + "|" + partitioner_name(c.partitioner) +
+                            "|" + refiner_name(c.refiner) + "|" + (c.direct() ? "" : std::to_string(c.nmax)) + "|1");
+
+  const std::vector<Row> table = read_csv(*dir_ / "table1.csv");
+  ASSERT_EQ(table.size(), 3 * configs.size());
+  for (const StudyScene& scene : spec_->scenes) {
+    std::set<std::string> seen;
+    for (const Row& r : table)
+      if (r.at("scene") == scene.label) seen.insert(key(r).substr(scene.label.size() + 1));
+    EXPECT_EQ(seen, expected_configs) << scene.label;
+  }
+  for (const Row& r : table) {
+    EXPECT_EQ(r.at("recorded_steps"), "4");
+    EXPECT_EQ(r.at("simulated_steps"), "16");
+    // Every configuration returned the live run's impulses (DESIGN.md §7: exact, or a fallback).
+    EXPECT_LE(std::stod(r.at("max_lambda_error")), 1e-8) << key(r);
+    EXPECT_GT(std::stod(r.at("mean_parts")), 0) << key(r);
+  }
+
+  // Scaling: both rock counts, every configuration, the 6-rock point from the Table 1 scene.
+  const std::vector<Row> scaling = read_csv(*dir_ / "scaling.csv");
+  ASSERT_EQ(scaling.size(), 2 * configs.size());
+  EXPECT_EQ(scaling.front().at("rocks"), "6");
+  EXPECT_EQ(scaling.front().at("scene"), "rock_pile:rocks=6:layers=2");
+  EXPECT_EQ(scaling.back().at("rocks"), "10");
+  EXPECT_EQ(scaling.back().at("dynamic_bodies"), "10");
+
+  // steps.csv: per captured scene (three Table 1 scenes, one scaling point) x config x recorded step.
+  const std::vector<Row> steps = read_csv(*dir_ / "steps.csv");
+  EXPECT_EQ(steps.size(), 4 * configs.size() * 4);
+
+  std::ifstream md(*dir_ / "table1.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  for (const StudyScene& scene : spec_->scenes) EXPECT_NE(text.find("## " + scene.label + "\n"), std::string::npos);
+  std::size_t table_lines = 0;
+  for (std::size_t at = text.find("\n| "); at != std::string::npos; at = text.find("\n| ", at + 1)) ++table_lines;
+  EXPECT_EQ(table_lines, 3 * (configs.size() + 1));  // + each table's header line
+
+  std::ifstream machine_file(*dir_ / "machine.json");
+  const nlohmann::json machine = nlohmann::json::parse(machine_file);
+  for (const char* field : {"cpu", "logical_cpus", "threads", "compiler", "build_type", "git_revision", "git_dirty"})
+    EXPECT_TRUE(machine.contains(field)) << field;
+  EXPECT_TRUE(machine.at("complete").get<bool>());
+  EXPECT_EQ(machine.at("threads"), nlohmann::json::array({1}));
+  EXPECT_EQ(machine.at("replay_check").at("direct_replays").get<int>(), 16);
+  EXPECT_EQ(machine.at("replay_check").at("bit_identical_to_live_run").get<int>(), 16);
+  // Nothing but the outputs: no temporary files are left behind by the atomic writers.
+  const std::set<std::string> outputs = {"machine.json", "table1.csv", "table1.md", "steps.csv", "scaling.csv",
+                                         "fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"};
+  for (const auto& entry : fs::directory_iterator(*dir_))
+    EXPECT_TRUE(outputs.count(entry.path().filename().string())) << entry.path();
+}
+
+TEST_F(TinyStudy, MeansAndTheRelativeColumnComeFromTheMediansInStepsCsv) {
+  // Means of the per-step medians, in step order, exactly as the table computes them.
+  std::map<std::string, std::pair<double, int>> sums;
+  std::map<std::string, double> maxima;
+  for (const Row& r : read_csv(*dir_ / "steps.csv")) {
+    auto& [sum, count] = sums[key(r)];
+    sum += std::stod(r.at("solve_ms"));
+    ++count;
+    maxima[key(r)] = std::max(maxima[key(r)], std::stod(r.at("solve_ms")));
+  }
+  const std::vector<Row> table = read_csv(*dir_ / "table1.csv");
+  std::map<std::string, double> mindp;
+  for (const Row& r : table)
+    if (r.at("partitioner") == "mindp" && r.at("refine") == "none") mindp[r.at("scene")] = std::stod(r.at("mean_solve_ms"));
+  for (const Row& r : table) {
+    SCOPED_TRACE(key(r));
+    const auto& [sum, count] = sums.at(key(r));
+    ASSERT_EQ(count, 4);
+    const double mean = sum / count;
+    EXPECT_DOUBLE_EQ(std::stod(r.at("mean_solve_ms")), mean);
+    EXPECT_DOUBLE_EQ(std::stod(r.at("max_solve_ms")), maxima.at(key(r)));
+    EXPECT_DOUBLE_EQ(std::stod(r.at("solve_vs_mindp")), mean / mindp.at(r.at("scene")));
+  }
+}
+
+TEST_F(TinyStudy, DrawsEveryFigure) {
+  EXPECT_TRUE(fs::equivalent(plot_script_path(), fs::path(RBPART_SOURCE_DIR) / "scripts" / "plot_study.py"));
+  const std::string python = find_plot_python();
+  if (python.empty()) GTEST_SKIP() << "no Python with matplotlib (Debian: python3-matplotlib): figures not checked";
+  ASSERT_EQ(draw_figures(python, dir_->string()), 0);
+  for (const char* name : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"}) {
+    const fs::path path = *dir_ / name;
+    ASSERT_TRUE(fs::exists(path)) << name;
+    std::ifstream in(path, std::ios::binary);
+    std::string head(8, '\0');
+    in.read(head.data(), 8);
+    if (path.extension() == ".png") EXPECT_EQ(head, "\x89PNG\r\n\x1a\n") << name;
+    else EXPECT_GT(fs::file_size(path), 1000u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace rbpart
