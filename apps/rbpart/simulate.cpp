@@ -46,7 +46,9 @@ int run_simulate(const Options& o) {
   if (o.dt > 0) scene.dt = o.dt;
   const int steps = o.steps >= 0 ? o.steps : scene.steps;
   SolverParams solver_params = o.solver_params;
-  solver_params.kind = o.solver == "pgs" ? SolverKind::Pgs : SolverKind::Direct;
+  solver_params.kind = o.solver == "pgs"             ? SolverKind::Pgs
+                       : o.solver == "substructured" ? SolverKind::Substructured
+                                                     : SolverKind::Direct;
 
   World world(scene, o.step_params, solver_params, partition_params);
   // Outputs are opened before the run so a bad path fails fast, and committed only at the end.
@@ -67,6 +69,7 @@ int run_simulate(const Options& o) {
   std::vector<double> total_ms, solve_ms;
   double max_penetration = 0, max_residual = 0;
   int fallbacks = 0;
+  long loop_iterations = 0;
   Progress progress("simulate " + scene.name, steps);
   for (int i = 0; i < steps; ++i) {
     const StepStats& s = world.step();
@@ -77,6 +80,7 @@ int run_simulate(const Options& o) {
     max_penetration = std::max(max_penetration, s.max_penetration);
     max_residual = std::max(max_residual, s.residual);
     fallbacks += s.fallbacks;
+    loop_iterations += s.loop_iterations;
     progress.update(i + 1);
   }
   if (stats) stats->finish();
@@ -89,8 +93,10 @@ int run_simulate(const Options& o) {
     std::printf("scene %s: %d dynamic bodies, %zu joints, %d steps of %.4g s, solver %s\n", scene.name.c_str(),
                 dynamic, scene.joints.size(), steps, scene.dt, o.solver.c_str());
     std::printf("median step %.3f ms (solve %.3f ms); max penetration %.3g m; max BLCP residual %.3g; "
-                "unconverged island solves %d\n",
+                "fallbacks %d\n",
                 median(total_ms), median(solve_ms), max_penetration, max_residual, fallbacks);
+    if (solver_params.kind == SolverKind::Substructured)
+      std::printf("substructured loop: %.2f iterations per step\n", steps ? double(loop_iterations) / steps : 0.0);
     const ConstraintGraph& g = world.graph();
     int max_degree = 0, total_degree = 0;
     for (int i = 0; i < g.node_count(); ++i) {
@@ -115,11 +121,15 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--set", o->sets, "Built-in scene parameter key=value (repeatable)");
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(CLI::PositiveNumber);
-  cmd->add_option("--solver", o->solver, "BLCP solver")
-      ->check(CLI::IsMember({"direct", "pgs"}))
+  cmd->add_option("--solver", o->solver, "BLCP solver (substructured needs --partitioner)")
+      ->check(CLI::IsMember({"direct", "pgs", "substructured"}))
       ->capture_default_str();
   cmd->add_option("--threads", o->solver_params.threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--sub-iterations", o->solver_params.substructured_max_iterations,
+                  "Substructured: interface/sub-system iterations before the monolithic fallback")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--pgs-iterations", o->solver_params.pgs_iterations, "PGS sweeps per step")
       ->check(CLI::PositiveNumber)

@@ -36,11 +36,20 @@ struct StepStats {
   int solver_iterations = 0;
   int friction_passes = 0;
   int factorizations = 0;
-  int fallbacks = 0;         // islands the solver could not finish within its caps
+  // Islands the solver could not finish within its caps; for the substructured solver also the
+  // islands it handed to the monolithic solve after its iteration cap (DESIGN.md §7).
+  int fallbacks = 0;
   double residual = 0;       // scaled natural-map residual of the step's BLCP
   double max_penetration = 0;  // m, deepest contact after collision
   double kinetic_energy = 0;   // J, after the step
   StepProfile profile;
+  // Substructured solver only (0 otherwise): iterations of DESIGN.md §7's interface/sub-system
+  // loop, and the solve's work per phase summed over threads and islands (ms): factorisations,
+  // Schur complement (effective inverse masses, S and q~), interface BLCPs, sub-system BLCPs; all
+  // work including set-up, monolithic one-part islands and fallbacks; and the critical path (each
+  // parallel section replaced by its slowest part), which bounds the solve time on many cores.
+  int loop_iterations = 0;
+  double factor_ms = 0, schur_ms = 0, interface_ms = 0, subsystem_ms = 0, work_ms = 0, critical_path_ms = 0;
 };
 
 class World {

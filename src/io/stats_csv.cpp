@@ -72,6 +72,9 @@ void StatsCsvWriter::write(const StepStats& s) {
   append_exact(line_, s.residual);
   append_exact(line_, s.max_penetration);
   append_exact(line_, s.kinetic_energy);
+  append_int(line_, s.loop_iterations);
+  for (double ms : {s.factor_ms, s.schur_ms, s.interface_ms, s.subsystem_ms, s.work_ms, s.critical_path_ms})
+    append_ms(line_, ms);
   line_.back() = '\n';
   file_.write(line_);
 }

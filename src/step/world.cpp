@@ -12,6 +12,7 @@
 
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
+#include "core/error.hpp"
 #include "core/timer.hpp"
 #include "graph/constraint_graph.hpp"
 #include "graph/islands.hpp"
@@ -21,6 +22,7 @@
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
 #include "solve/solve.hpp"
+#include "solve/substructured.hpp"
 
 namespace rbpart {
 
@@ -49,6 +51,8 @@ struct World::Impl {
   Impl(SceneDef s, StepParams sp, SolverParams so, PartitionParams pp)
       : scene(std::move(s)), step_params(sp), solver_params(so), partition_params(pp),
         collider(scene, sp.contact_margin) {
+    if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
+      throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
     if (solver_params.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(solver_params.threads));
@@ -134,9 +138,35 @@ struct World::Impl {
       throw std::logic_error(std::string(stage) + " stage at step " + std::to_string(steps + 1) + ": " + violation);
   }
 
-  SolveReport solve() {
-    return solver_params.kind == SolverKind::Pgs ? solve_pgs(rows, bodies, islands, solver_params)
-                                                 : solve_direct(rows, bodies, islands, solver_params);
+  // Solves the step's BLCP and fills the solver's columns of the stats.
+  void solve(StepStats& s) {
+    SolveReport report;
+    s.loop_iterations = 0;
+    s.factor_ms = s.schur_ms = s.interface_ms = s.subsystem_ms = s.work_ms = s.critical_path_ms = 0;
+    s.fallbacks = 0;
+    switch (solver_params.kind) {
+      case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
+      case SolverKind::Direct: report = solve_direct(rows, bodies, islands, solver_params); break;
+      case SolverKind::Substructured: {
+        const SubstructuredReport sub =
+            solve_substructured(rows, bodies, islands, graph_, partition_, solver_params);
+        report = sub.solve;
+        s.loop_iterations = sub.loop_iterations;
+        s.fallbacks = sub.fallbacks;
+        s.factor_ms = sub.factor_ms;
+        s.schur_ms = sub.schur_ms;
+        s.interface_ms = sub.interface_ms;
+        s.subsystem_ms = sub.subsystem_ms;
+        s.work_ms = sub.work_ms;
+        s.critical_path_ms = sub.critical_path_ms;
+        break;
+      }
+    }
+    s.solver_iterations = report.iterations;
+    s.friction_passes = report.friction_passes;
+    s.factorizations = report.factorizations;
+    s.fallbacks += report.failures;
+    s.residual = report.residual;
   }
 
   void integrate() {
@@ -175,9 +205,8 @@ struct World::Impl {
       { const Timer t; partition(); p.partition_ms = t.ms(); }
       { const Timer t; refine(); p.refine_ms = t.ms(); }
     }
-    SolveReport report;
     if (observer) observer(rows, bodies, islands, graph_);
-    { const Timer t; report = solve(); p.solve_ms = t.ms(); }
+    { const Timer t; solve(s); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
     p.total_ms = total.ms();
 
@@ -202,11 +231,6 @@ struct World::Impl {
       s.interface_bodies = q.interface_bodies;
       s.edge_cut = q.edge_cut;
     }
-    s.solver_iterations = report.iterations;
-    s.friction_passes = report.friction_passes;
-    s.factorizations = report.factorizations;
-    s.fallbacks = report.failures;
-    s.residual = report.residual;
     s.max_penetration = 0;
     for (const Contact& c : contacts) s.max_penetration = std::max(s.max_penetration, -c.distance);
     s.kinetic_energy = kinetic_energy();

@@ -8,10 +8,10 @@
 namespace rbpart {
 namespace {
 
-std::uint64_t run_hash(const SceneDef& scene, int threads, int steps) {
-  SolverParams solver;
+std::uint64_t run_hash(const SceneDef& scene, int threads, int steps, SolverParams solver = {},
+                       PartitionParams partition = {}) {
   solver.threads = threads;
-  World world(scene, StepParams{}, solver);
+  World world(scene, StepParams{}, solver, partition);
   for (int i = 0; i < steps; ++i) world.step();
   return world.state_hash();
 }
@@ -21,6 +21,19 @@ TEST(Determinism, SameHashForRepeatedRunsAndThreadCounts) {
   const std::uint64_t one = run_hash(scene, 1, 150);
   EXPECT_EQ(one, run_hash(scene, 1, 150));
   EXPECT_EQ(one, run_hash(scene, 2, 150));
+}
+
+// The substructured solver sums every part's contribution in a fixed order, so its answer, and the
+// whole run, is bit for bit the same on 1 and 2 threads (issue #5; a shortened rock pile for CI).
+TEST(Determinism, SubstructuredRunIsTheSameOnOneAndTwoThreads) {
+  const SceneDef scene = make_builtin_scene("rock_pile", {{"rocks", "40"}});
+  SolverParams solver;
+  solver.kind = SolverKind::Substructured;
+  PartitionParams partition;
+  partition.partitioner = PartitionerKind::Mix;
+  partition.refiner = RefinerKind::Fm;
+  partition.nmax = 8;
+  EXPECT_EQ(run_hash(scene, 1, 100, solver, partition), run_hash(scene, 2, 100, solver, partition));
 }
 
 TEST(Determinism, DifferentSeedsGiveDifferentScenes) {
