@@ -207,14 +207,6 @@ class Chromium {
   std::string buffer_;
 };
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot read");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 std::string last_line(const std::string& path) {
   std::ifstream in(path);
   std::string line, last;

@@ -25,8 +25,6 @@
 
 namespace rbpart::cli {
 
-namespace {
-
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read");
@@ -34,6 +32,8 @@ std::string read_file(const std::string& path) {
   bytes << in.rdbuf();
   return bytes.str();
 }
+
+namespace {
 
 std::string base64(const std::string& bytes) {
   static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

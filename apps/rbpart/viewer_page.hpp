@@ -12,4 +12,7 @@ std::string viewer_dir();
 // which opens offline from anywhere. `name` is shown as the recording's name.
 std::string self_contained_html(const std::string& recording_bytes, const std::string& name);
 
+// A whole file's bytes; InputError "PATH: cannot read" if it cannot be opened.
+std::string read_file(const std::string& path);
+
 }  // namespace rbpart::cli

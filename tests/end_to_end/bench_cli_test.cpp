@@ -1,50 +1,19 @@
 // `rbpart bench` as a user runs it: bad options exit 2 with one line and write nothing; a tiny
 // study writes its tables and removes an earlier study's figures.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "support/cli_test.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string out, err;
-};
-
-class BenchCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rbpart_bench_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // Runs the CLI with `args` (shell-quoted), capturing stdout and stderr.
-  Result run(const std::string& args) const {
-    const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
-    const int raw = std::system((std::string(RBPART_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
-    auto slurp = [](const std::string& p) {
-      std::ifstream f(p);
-      std::stringstream s;
-      s << f.rdbuf();
-      return s.str();
-    };
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-  }
-
-  fs::path dir_;
-};
+using BenchCli = rbpart::test::CliTest;
 
 TEST_F(BenchCli, BadOptionsExitTwoWithOneLineAndWriteNothing) {
   const std::string out = (dir_ / "study").string();

@@ -1,58 +1,21 @@
 // The rbpart CLI as a user runs it: exit statuses, one-line errors, no half-written outputs, and
 // export -> load -> simulate reproducing a built-in run exactly.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "support/cli_test.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string out, err;
-};
-
-// Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
-Result run(const std::string& args) {
-  static int counter = 0;
-  const fs::path dir = fs::temp_directory_path() / ("rbpart_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const std::string out = (dir / ("out" + std::to_string(counter))).string();
-  const std::string err = (dir / ("err" + std::to_string(counter++))).string();
-  const int raw = std::system((std::string(RBPART_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-}
-
-class Cli : public ::testing::Test {
+class Cli : public rbpart::test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rbpart_cli_case_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
   // A bad scene file must give exit 2, one line naming `expect`, and leave no outputs behind.
   void expect_rejected(const std::string& text, const std::string& expect) {
     const std::string scene = write("bad.json", text);
@@ -64,7 +27,6 @@ class Cli : public ::testing::Test {
     EXPECT_FALSE(fs::exists(path("s.csv")));
     EXPECT_FALSE(fs::exists(path("s.json")));
   }
-  fs::path dir_;
 };
 
 const char* kGround = R"({"name": "g", "static": true, "shape": {"type": "box", "half_extents": [5, 5, 0.5]},
@@ -128,13 +90,7 @@ TEST_F(Cli, ExportedSceneReproducesBuiltinRun) {
   const Result b = run("simulate --scene " + file + " --steps 60 --state " + path("b.json"));
   ASSERT_EQ(a.status, 0) << a.err;
   ASSERT_EQ(b.status, 0) << b.err;
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
-  EXPECT_EQ(slurp(path("a.json")), slurp(path("b.json")));
+  EXPECT_EQ(read(path("a.json")), read(path("b.json")));
   EXPECT_NE(a.out.find("state hash"), std::string::npos);
 }
 

@@ -2,8 +2,6 @@
 // the JSON report, exit status 2 with one line naming the problem, nothing half written.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -11,6 +9,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "support/cli_test.hpp"
 
 namespace {
 
@@ -29,36 +29,18 @@ const char* kTwoCliques =
     "5 2 6 2 8 2\n"
     "5 2 6 2 7 2\n";
 
-class PartitionCli : public ::testing::Test {
+class PartitionCli : public rbpart::test::CliTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rbpart_partition_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliTest::SetUp();
     graph_ = write("g.graph", kTwoCliques);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
-  static std::string read(const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
   }
   // Runs `rbpart <args>`; stdout and stderr land in out_ and err_.
   int rbpart(const std::string& args) {
-    const std::string command =
-        std::string(RBPART_CLI) + " " + args + " >" + path("stdout.txt") + " 2>" + path("stderr.txt");
-    const int raw = std::system(command.c_str());
-    out_ = read(path("stdout.txt"));
-    err_ = read(path("stderr.txt"));
-    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    const Result r = run(args);
+    out_ = r.out;
+    err_ = r.err;
+    return r.status;
   }
   // Exit 2, one stderr line containing `words`, no --out file.
   void expect_rejected(const std::string& args, const std::string& words) {
@@ -68,7 +50,6 @@ class PartitionCli : public ::testing::Test {
     EXPECT_FALSE(fs::exists(path("p.part")));
   }
 
-  fs::path dir_;
   std::string graph_, out_, err_;
 };
 
