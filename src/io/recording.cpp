@@ -49,6 +49,8 @@ const StatField kStatFields[] = {
     {"blcp_residual", [](const StepStats& s) { return s.residual; }},
     {"max_penetration", [](const StepStats& s) { return s.max_penetration; }},
     {"kinetic_energy", [](const StepStats& s) { return s.kinetic_energy; }},
+    {"loop_iterations", [](const StepStats& s) -> double { return s.loop_iterations; }},
+    {"critical_path_ms", [](const StepStats& s) { return s.critical_path_ms; }},
 };
 
 enum ShapeCode : std::uint8_t { kSphere = 0, kBox = 1, kCapsule = 2, kCylinder = 3, kConvex = 4 };

@@ -79,6 +79,8 @@ class Player {
       ['partition', ms(c.partitionMs)],
       ['refine', ms(c.refineMs)],
       ['solve', ms(s.solve_ms)],
+      ['solve critical path', ms(s.critical_path_ms)],
+      ['loop iterations', num(s.loop_iterations)],
       ['step total', ms(s.total_ms)],
       ['contacts', num(s.contacts)],
       ['rows', num(s.rows)],
