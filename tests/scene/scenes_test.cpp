@@ -1,0 +1,149 @@
+// The paper's scenes (DESIGN.md §8) on shortened runs with the direct solver: the state stays finite
+// and inside the world, contacts stay shallow, joints stay closed, no energy is created, and the
+// constraint graph has the character the partitioning study needs (issue #3). The full-length runs
+// (500 steps, 200 and 600 rocks) are measured by `rbpart simulate`, not here, to keep CI short.
+//
+// Penetration: once the bodies are down (the last `late` steps) contacts must be within 1 cm. During
+// impacts at h = 1/60 s tumbling rocks and thin links still reach 2-5 cm (a feature the speculative
+// contacts did not have at the start of the step comes down within it; at h = 1/240 s the same
+// rock pile stays under 8 mm): a known gap of issue #3, bounded here at 10 cm so that a body
+// tunnelling through the floor, a wall or another body still fails.
+#include <gtest/gtest.h>
+#include <rbpart/world.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "graph/constraint_graph.hpp"
+#include "scene/bodies.hpp"
+#include "scenes/scenes.hpp"
+#include "support/joint_gap.hpp"
+
+namespace rbpart {
+namespace {
+
+// Kinetic plus potential energy of the dynamic bodies (J); the potential is measured from z = 0.
+double mechanical_energy(const World& w, double kinetic) {
+  const Bodies& B = w.bodies();
+  double potential = 0;
+  for (int i = 0; i < B.size(); ++i)
+    if (!B.is_static[i]) potential -= B.mass[i] * w.scene().gravity.dot(B.x[i]);
+  return kinetic + potential;
+}
+
+struct RunSummary {
+  double max_penetration = 0;  // m, over all steps
+  double late_penetration = 0;  // m, over the last `late` steps
+  double max_joint_gap = 0;    // m, over all steps
+  double max_energy_gain = 0;  // J, max over steps of E(t) - E(0)
+  double energy_scale = 0;     // J, total weight times the height range of the scene's bodies
+  double peak_kinetic = 0, late_kinetic = 0;  // J; late: max over the last `late` steps
+  double max_distance = 0;     // m, farthest body centre from the origin
+  int max_contacts = 0;
+};
+
+RunSummary run(World& w, int steps, int late = 0) {
+  RunSummary r;
+  const test::JointGapMeter gaps(w);
+  const Bodies& B = w.bodies();
+  double weight = 0, z_lo = 0, z_hi = 0;
+  for (int i = 0; i < B.size(); ++i)
+    if (!B.is_static[i]) {
+      weight += B.mass[i] * w.scene().gravity.norm();
+      z_hi = std::max(z_hi, B.x[i].z());
+    }
+  r.energy_scale = weight * (z_hi - z_lo);
+  const double e0 = mechanical_energy(w, 0.0);  // every scene starts at rest or in free fall
+  double initial_kinetic = 0;
+  for (int i = 0; i < B.size(); ++i)
+    if (!B.is_static[i]) initial_kinetic += 0.5 * B.mass[i] * B.v[i].squaredNorm();
+  for (int k = 0; k < steps; ++k) {
+    const StepStats& s = w.step();  // throws on a non-finite state
+    r.max_penetration = std::max(r.max_penetration, s.max_penetration);
+    r.max_contacts = std::max(r.max_contacts, s.contacts);
+    r.max_joint_gap = std::max(r.max_joint_gap, gaps.max_gap(w));
+    r.max_energy_gain = std::max(r.max_energy_gain, mechanical_energy(w, s.kinetic_energy) - e0 - initial_kinetic);
+    r.peak_kinetic = std::max(r.peak_kinetic, s.kinetic_energy);
+    if (k >= steps - late) {
+      r.late_kinetic = std::max(r.late_kinetic, s.kinetic_energy);
+      r.late_penetration = std::max(r.late_penetration, s.max_penetration);
+    }
+    for (int i = 0; i < B.size(); ++i) r.max_distance = std::max(r.max_distance, B.x[i].norm());
+  }
+  return r;
+}
+
+// Checks shared by every scene: shallow contacts, closed joints, no energy created beyond 1 % of
+// the scene's potential energy scale (Baumgarte correction may add a little), bodies near the origin.
+void expect_sound(const RunSummary& r, double world_radius) {
+  EXPECT_LE(r.late_penetration, 0.01);
+  EXPECT_LE(r.max_penetration, 0.1);
+  ::testing::Test::RecordProperty("max_penetration_mm", std::to_string(1e3 * r.max_penetration));
+  EXPECT_LE(r.max_joint_gap, 1e-3);
+  EXPECT_LE(r.max_energy_gain, 0.01 * r.energy_scale);
+  EXPECT_LE(r.max_distance, world_radius);
+}
+
+TEST(ChainDrop, FallsAcrossTheBarAndKeepsItsJoints) {
+  World w(make_builtin_scene("chain_drop", {{"links", "40"}}));
+  const RunSummary r = run(w, 240, 20);
+  expect_sound(r, 20.0);
+  // Every link is a node; the joints alone make the graph a path of links - 1 edges.
+  const ConstraintGraph& g = w.graph();
+  EXPECT_EQ(g.node_count(), 40);
+  EXPECT_GE(g.edge_count(), 39);
+  EXPECT_GT(r.max_contacts, 0);
+}
+
+TEST(LogTower, StandsUnderTheBlockAsALayeredLattice) {
+  const int layers = 6;
+  World w(make_builtin_scene("log_tower", {{"layers", std::to_string(layers)}, {"drop_height", "0.3"}}));
+  std::vector<double> z0;
+  for (int i = 0; i < w.bodies().size(); ++i) z0.push_back(w.bodies().x[i].z());
+  const RunSummary r = run(w, 120, 20);
+  expect_sound(r, 10.0);
+  // The block has landed and everything is at rest again.
+  EXPECT_LT(r.late_kinetic, 1e-3 * r.peak_kinetic);
+  // Every log is still in its layer (bodies: ground, then 3 logs per layer, then the block).
+  const Bodies& B = w.bodies();
+  for (int i = 1; i <= 3 * layers; ++i) EXPECT_NEAR(B.x[i].z(), z0[i], 0.01) << "log " << i;
+  // Layered lattice: edges join only logs of adjacent layers (or the block and the top layer),
+  // and every layer touches the next.
+  const ConstraintGraph& g = w.graph();
+  auto layer = [&](int node) { return (g.body_of[node] - 1) / 3; };  // the block is layer `layers`
+  std::set<int> joined;
+  for (int a = 0; a < g.node_count(); ++a)
+    for (int k = g.offset[a]; k < g.offset[a + 1]; ++k) {
+      const int b = g.adjacency[k];
+      EXPECT_EQ(std::abs(layer(a) - layer(b)), 1) << "edge " << g.body_of[a] << "-" << g.body_of[b];
+      joined.insert(std::min(layer(a), layer(b)));
+    }
+  EXPECT_EQ(static_cast<int>(joined.size()), layers);
+}
+
+TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
+  World w(make_builtin_scene("rock_pile", {{"rocks", "30"}}));
+  const RunSummary r = run(w, 300, 50);
+  expect_sound(r, 10.0);
+  EXPECT_LT(r.late_kinetic, 0.01 * r.peak_kinetic);
+  // A pile: rocks rest on rocks, so the graph has many edges and bodies of degree >= 3.
+  const ConstraintGraph& g = w.graph();
+  int high_degree = 0;
+  for (int v = 0; v < g.node_count(); ++v) high_degree += g.degree(v) >= 3;
+  EXPECT_GE(g.edge_count(), g.node_count());
+  EXPECT_GE(high_degree, g.node_count() / 3);
+}
+
+TEST(LargeRockPile, MassesComeFromTheSetAndThePileIsSound) {
+  World w(make_builtin_scene("large_rock_pile", {{"rocks", "30"}}));
+  const Bodies& B = w.bodies();
+  std::set<double> masses;
+  for (int i = 0; i < B.size(); ++i)
+    if (!B.is_static[i]) masses.insert(B.mass[i]);
+  EXPECT_EQ(masses, (std::set<double>{10, 100, 1000}));
+  expect_sound(run(w, 150, 30), 10.0);
+}
+
+}  // namespace
+}  // namespace rbpart
