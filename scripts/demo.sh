@@ -1,8 +1,14 @@
 #!/usr/bin/env bash
-# First command of the README: install what is missing, build, run the Rock Pile demo.
+# First command of the README: install what is missing, build, run the Rock Pile demo: the run's
+# statistics and final state, a recording with the MIX+FM and MinDP partitions of every step, and
+# a picture of the last step with its sub-systems and constraint graph.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 scripts/build.sh
 mkdir -p out
-build/rbpart simulate --scene rock_pile --steps 500 --stats out/rock_pile.csv --state out/rock_pile_state.json
+build/rbpart simulate --scene rock_pile --steps 500 --stats out/rock_pile.csv \
+  --state out/rock_pile_state.json --partitioner mix --refine fm --record out/rock_pile.rbrec \
+  --record-partitioners mindp
+build/rbpart snapshot out/rock_pile.rbrec --step 500 --out out/rock_pile.png --graph
+echo "replay it in the browser: build/rbpart view out/rock_pile.rbrec"
