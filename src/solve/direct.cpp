@@ -75,20 +75,10 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   out.factorizations += coupled.factorizations;
   out.failed = !passes.solved;
 
-  // Write back the solution, its sets and the friction bounds it is exact for.
-  for (int r = 0; r < s.rows; ++r) {
-    const int g = s.global_rows[r];
-    rows.lambda[g] = lambda[r];
-    rows.state[g] = state[r];
-    rows.lo[g] = s.lo[r];
-    rows.hi[g] = s.hi[r];
-  }
-  // Quality with the friction bounds of the final normal impulses; w afresh, as the coupled step
-  // may have replaced the last fixed-bounds solve's lambda.
-  set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
-  a->multiply(lambda, ws.w);
-  ws.w += s.q;
-  out.residual = scaled_natural_map_residual(lambda, ws.w, s.diag, s.lo, s.hi, s.q);
+  store_island_solution(s, lambda, state, rows);
+  // w afresh, as the coupled step may have replaced the last fixed-bounds solve's lambda.
+  Eigen::VectorXd du;
+  out.residual = island_residual(s, lambda, du, ws.w);
   return out;
 }
 

@@ -66,18 +66,9 @@ PgsOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& islands
     if (largest_change < params.pgs_tolerance * scale) break;
   }
 
-  for (int r = 0; r < s.rows; ++r) {
-    const int g = s.global_rows[r];
-    rows.lambda[g] = lambda[r];
-    rows.state[g] = state[r];
-    rows.lo[g] = s.lo[r];
-    rows.hi[g] = s.hi[r];
-  }
+  store_island_solution(s, lambda, state, rows);
   // Residual from a fresh du (the incremental one carries round-off), bounds from the final lambda_n.
-  set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
-  apply_a(s, lambda, du, w);
-  w += s.q;
-  out.residual = scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
+  out.residual = island_residual(s, lambda, du, w);
   return out;
 }
 

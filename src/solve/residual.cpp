@@ -28,6 +28,24 @@ double scaled_natural_map_residual(const Eigen::VectorXd& lambda, const Eigen::V
   return r / scale;
 }
 
+void store_island_solution(const IslandSystem& s, const Eigen::VectorXd& lambda, const std::vector<RowState>& state,
+                           Rows& rows) {
+  for (int r = 0; r < s.rows; ++r) {
+    const int g = s.global_rows[r];
+    rows.lambda[g] = lambda[r];
+    rows.state[g] = state[r];
+    rows.lo[g] = s.lo[r];
+    rows.hi[g] = s.hi[r];
+  }
+}
+
+double island_residual(IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, Eigen::VectorXd& w) {
+  set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
+  apply_a(s, lambda, du, w);
+  w += s.q;
+  return scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
+}
+
 double natural_map_residual(const Eigen::MatrixXd& a, const Eigen::VectorXd& q, const Eigen::VectorXd& lo,
                             const Eigen::VectorXd& hi, const Eigen::VectorXd& lambda) {
   const Eigen::VectorXd w = a * lambda + q;
@@ -42,10 +60,7 @@ double natural_map_residual(const Rows& rows, const Bodies& bodies, const Island
     s.gather(rows, bodies, islands, static_cast<int>(i), local_row);
     Eigen::VectorXd lambda(s.rows), w, du;
     for (int r = 0; r < s.rows; ++r) lambda[r] = rows.lambda[s.global_rows[r]];
-    set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
-    apply_a(s, lambda, du, w);
-    w += s.q;
-    residual[i] = scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
+    residual[i] = island_residual(s, lambda, du, w);
   });
   return residual.empty() ? 0.0 : *std::max_element(residual.begin(), residual.end());
 }

@@ -90,19 +90,9 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
     out.fallback = true;
     monolithic();
   } else {
-    for (int r = 0; r < s.rows; ++r) {
-      const int g = s.global_rows[r];
-      rows.lambda[g] = lambda[r];
-      rows.state[g] = state[r];
-      rows.lo[g] = s.lo[r];
-      rows.hi[g] = s.hi[r];
-    }
-    // Quality as solve_direct measures it: friction bounds of the final normal impulses, w from A.
+    store_island_solution(s, lambda, state, rows);
     Eigen::VectorXd w, du;
-    set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
-    apply_a(s, lambda, du, w);
-    w += s.q;
-    out.island.residual = scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
+    out.island.residual = island_residual(s, lambda, du, w);
   }
   out.wall_ms = wall.ms();
   // The monolithic fallback is serial work after the substructured attempt.
