@@ -34,12 +34,17 @@
 //      contact.
 //   4. Without a face, parallel support segments (capsules side by side, an edge along an edge)
 //      give the two ends of their overlap instead.
-//   5. At most 4 points are kept: the deepest, then those spanning the largest area.
-// - Persistence: a pair's points live in its btPersistentManifold. A new point within the pair's
-//   margin of one of its previous points (in either body's frame; the sweeps bound how far a point
-//   moves on the other body, rolling moves it on both) takes over that point's id, kept in
-//   btManifoldPoint::m_userPersistentData; other points get fresh ids from the Collider's counter,
-//   assigned in (body_a, body_b) order after sorting, so runs are deterministic.
+//   5. Between two polytopes, every vertex of one within the margin of a face of the other (its
+//      foot inside the face) is a contact too, in both directions (vertex_faces): a rock's faces
+//      are small triangles, so steps 3-4 cover a few centimetres of it, and the vertices beside
+//      them, which a tilting or turning rock brings down within the step, would go unguarded.
+//   6. At most 8 points are kept (reduce): a footprint of four, then the points that the bodies'
+//      motion drives in within the step.
+// - Persistence: each pair algorithm keeps its points (a btPersistentManifold holds four at most).
+//   A new point within the pair's margin of one of its previous points (in either body's frame;
+//   the sweeps bound how far a point moves on the other body, rolling moves it on both) takes over
+//   that point's id; other points get fresh ids from the Collider's counter, assigned in
+//   (body_a, body_b) order after sorting, so runs are deterministic.
 #include "collision/collide.hpp"
 
 #include <btBulletCollisionCommon.h>
@@ -195,7 +200,8 @@ constexpr double kFlat = 1e-6;
 constexpr double kFaceAlignment = 0.9999;
 // Corners of the polygon that stands for a cylinder cap.
 constexpr int kCapCorners = 8;
-constexpr int kMaxPoints = 4;
+constexpr int kFootprint = 4;
+constexpr int kMaxPoints = 8;
 
 // A convex polyhedron in its shape frame: faces in CSR form, counter-clockwise seen from outside,
 // with planes normal . x = offset. Bullet builds the hull on rounded points (see convex_hull_faces);
@@ -276,6 +282,7 @@ struct PairPoint {
   Vec3 on_a, on_b;
   Vec3 normal;  // from B into A
   double distance;
+  double predicted = 0;  // distance after the step at the bodies' current velocities (reduce)
 };
 
 // One shape's feature facing the other body: a polygon (counter-clockwise seen from outside, with
@@ -307,8 +314,7 @@ struct NarrowPhase {
   std::vector<PairPoint> candidates;
 
   double pair_margin(int a, int b) const { return contact_margin + sweep[a] + sweep[b]; }
-  int generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, double margin, Vec3& axis,
-               PairPoint* out);
+  int pair_contacts(int a, int b, const btTransform& ta, const btTransform& tb, Vec3& axis, PairPoint* out);
 
  private:
   struct Face {
@@ -324,8 +330,10 @@ struct NarrowPhase {
   Face flat_face(int body, const Vec3& dir) const;
   void face_polygon(int body, const Face& face, std::vector<Vec3>& poly) const;
   FeatureKind incident_feature(int body, const Vec3& m, const Vec3& facing, double& radius);
+  double generate(int a, int b, const btTransform& ta, const btTransform& tb, double margin, Vec3& axis);
   void add_candidate(const PairPoint& p, double tolerance);
   void clip_face(int a, int b, const Vec3& dir, bool contact_normal, bool speculative, double margin, double tolerance);
+  void vertex_faces(int a, int b, const Vec3& n, double plane_a, double plane_b, double margin, double tolerance);
   Vec3 point_velocity(int body, const Vec3& p) const;
 };
 
@@ -619,46 +627,131 @@ bool clip_segment(const std::vector<Vec3>& ref, const Vec3& m, std::vector<Vec3>
   return true;
 }
 
-// Keeps at most kMaxPoints of `pts`: the deepest, the farthest from it, the one spanning the largest
-// triangle with those two, and the one adding the most area to that triangle (areas in the plane
-// normal to n).
-int reduce(std::vector<PairPoint>& pts, const Vec3& n) {
+// Keeps at most kMaxPoints of `pts` (normal n, `size` the smaller body's, `allowance` the depth
+// below which differences do not count):
+// - A point with one deeper by more than the allowance near it across n (similar normal) is
+//   dropped: within a tenth of `size`, or so far below it that only a turn by more than about 30
+//   degrees could bring it down as deep. A rock's vertices lie at different heights.
+// - A footprint of at most four: the deepest point, the farthest from it, the one spanning the
+//   largest triangle with those two, and the one adding the most area to that triangle (lengths
+//   across n, each less twice the point's height above the deepest). Drawn from the points as deep
+//   as the deepest if they span a triangle (a rock resting on the three vertices of a small face
+//   needs all three), else from all. A footprint bounds a flat patch; a pair at rest needs no more.
+// - The points that the step's motion would drive in by more than the allowance (predicted
+//   distance), most threatened first: a turning or tumbling rock brings down vertices that no
+//   footprint bounds.
+// - A point over a triangle of kept points but below their plane by more than the allowance: to
+//   first order a rigid motion takes the points over a triangle no further in than its corners
+//   only if they lie on or above the corners' plane.
+int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allowance) {
   const int count = static_cast<int>(pts.size());
-  if (count <= kMaxPoints) return count;
-  auto mid = [&](int i) { return 0.5 * (pts[i].on_a + pts[i].on_b); };
-  int pick[kMaxPoints] = {0, -1, -1, -1};
-  for (int i = 1; i < count; ++i)
+  if (count <= kFootprint) return count;
+  auto across = [&](int i) {
+    const Vec3 m = 0.5 * (pts[i].on_a + pts[i].on_b);
+    return Vec3(m - n.dot(m) * n);
+  };
+  auto near = [&](int i, int k) {  // k holds i's spot
+    const double apart = (across(i) - across(k)).norm();
+    return apart < std::max(0.1 * size, 2 * (pts[i].distance - pts[k].distance)) &&
+           pts[i].normal.dot(pts[k].normal) > 0.9;
+  };
+  std::vector<int> low;  // the points with no deeper neighbour
+  for (int i = 0; i < count; ++i) {
+    bool covered = false;
+    for (int k = 0; k < count && !covered; ++k)
+      covered = pts[k].distance < pts[i].distance - allowance && near(i, k);
+    if (!covered) low.push_back(i);
+  }
+  std::vector<int> pick = {low[0]};
+  for (int i : low)
     if (pts[i].distance < pts[pick[0]].distance) pick[0] = i;
-  const Vec3 p0 = mid(pick[0]);
-  double best = -1;
-  for (int i = 0; i < count; ++i) {
-    const double d = (mid(i) - p0).squaredNorm();
-    if (d > best) best = d, pick[1] = i;
+  // The footprint's points: those as deep as the deepest (up to the allowance) if they span a
+  // plane, else all. A rock resting on the three vertices of a small face needs all three, which
+  // a footprint spread over higher points could miss.
+  std::vector<int> level;
+  for (int i : low)
+    if (pts[i].distance <= pts[pick[0]].distance + allowance) level.push_back(i);
+  if (level.size() < 3) level = low;
+  const Vec3 p0 = across(pick[0]);
+  auto height = [&](int i) { return 2 * (pts[i].distance - pts[pick[0]].distance); };
+  int far = pick[0];
+  double best = -INFINITY;
+  for (int i : level) {
+    const double d = (across(i) - p0).norm() - height(i);
+    if (d > best) best = d, far = i;
   }
-  const Vec3 p1 = mid(pick[1]);
-  best = -1;
-  for (int i = 0; i < count; ++i) {
-    const double a = std::abs((p1 - p0).cross(mid(i) - p0).dot(n));
-    if (a > best) best = a, pick[2] = i;
+  const Vec3 p1 = across(far);
+  const double span = std::max((p1 - p0).norm(), 1e-12 * size);
+  int wide = pick[0];
+  best = -INFINITY;
+  for (int i : level) {
+    const double a = std::abs((p1 - p0).cross(across(i) - p0).dot(n)) / span - height(i);
+    if (a > best) best = a, wide = i;
   }
-  const Vec3 p2 = mid(pick[2]);
+  const Vec3 p2 = across(wide);
   const double orientation = (p1 - p0).cross(p2 - p0).dot(n) >= 0 ? 1 : -1;
   const Vec3 tri[3] = {p0, p1, p2};
+  int fourth = -1;
   best = 0;
-  for (int i = 0; i < count; ++i) {
-    if (i == pick[0] || i == pick[1] || i == pick[2]) continue;
-    const Vec3 p = mid(i);
+  for (int i : level) {
+    const Vec3 p = across(i);
     for (int e = 0; e < 3; ++e) {
-      const double outside = -orientation * (tri[(e + 1) % 3] - tri[e]).cross(p - tri[e]).dot(n);
-      if (outside > best) best = outside, pick[3] = i;
+      const Vec3 edge = tri[(e + 1) % 3] - tri[e];
+      const double length = edge.norm();
+      if (length == 0) continue;
+      const double outside = -orientation * edge.cross(p - tri[e]).dot(n) / length - height(i);
+      if (outside > best) best = outside, fourth = i;
     }
   }
-  const int kept = pick[3] >= 0 ? 4 : 3;
-  PairPoint chosen[kMaxPoints];
-  for (int k = 0; k < kept; ++k) chosen[k] = pts[pick[k]];
-  for (int k = 0; k < kept; ++k) pts[k] = chosen[k];
-  pts.resize(kept);
-  return kept;
+  for (int i : {far, wide, fourth})
+    if (i >= 0 && std::find(pick.begin(), pick.end(), i) == pick.end()) pick.push_back(i);
+  // How far point i lies below the plane of a kept triangle over it, the least over such
+  // triangles (-inf over none): a rigid motion takes the points over a triangle no further in than
+  // its corners (to first order) if they lie on or above the corners' plane.
+  auto below = [&](int i) {
+    const Vec3 p = across(i);
+    double least = -INFINITY;
+    for (std::size_t x = 0; x < pick.size(); ++x)
+      for (std::size_t y = x + 1; y < pick.size(); ++y)
+        for (std::size_t z = y + 1; z < pick.size(); ++z) {
+          const Vec3 c0 = across(pick[x]), c1 = across(pick[y]), c2 = across(pick[z]);
+          const double area = (c1 - c0).cross(c2 - c0).dot(n);
+          if (std::abs(area) <= 1e-12 * size * size) continue;
+          const double u = (c1 - p).cross(c2 - p).dot(n) / area, v = (c2 - p).cross(c0 - p).dot(n) / area;
+          if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9) continue;
+          const double plane =
+              u * pts[pick[x]].distance + v * pts[pick[y]].distance + (1 - u - v) * pts[pick[z]].distance;
+          least = least == -INFINITY ? plane - pts[i].distance : std::min(least, plane - pts[i].distance);
+        }
+    return least;
+  };
+  auto add_unless_held = [&](int i) {
+    bool held = below(i) > -INFINITY && below(i) <= allowance;
+    for (int k : pick) held = held || k == i || near(i, k);
+    if (!held) pick.push_back(i);
+  };
+  std::vector<int> order(count);
+  for (int i = 0; i < count; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return pts[x].predicted < pts[y].predicted; });
+  for (int i : order) {
+    if (static_cast<int>(pick.size()) == kMaxPoints || !(pts[i].predicted < -allowance)) break;
+    add_unless_held(i);
+  }
+  while (static_cast<int>(pick.size()) < kMaxPoints) {
+    int worst = -1;
+    double deepest = allowance;
+    for (int i : low) {
+      if (std::find(pick.begin(), pick.end(), i) != pick.end()) continue;
+      const double b = below(i);
+      if (b > deepest) deepest = b, worst = i;
+    }
+    if (worst < 0) break;
+    pick.push_back(worst);
+  }
+  std::vector<PairPoint> chosen;
+  for (int k : pick) chosen.push_back(pts[k]);
+  pts.assign(chosen.begin(), chosen.end());
+  return static_cast<int>(pts.size());
 }
 
 // Parameters (s, t) in [0, 1] of the closest points of segments p0-p1 and q0-q1 (Ericson,
@@ -770,20 +863,100 @@ void NarrowPhase::clip_face(int a, int b, const Vec3& dir, bool contact_normal, 
   }
 }
 
+// Every vertex of one polytope within `margin` of the other, in both directions, at its exact
+// distance: over a face, the foot on the face's plane is the vertex's closest point on the other
+// body, which lies wholly behind that plane; beside an edge or a corner, the closest point of the
+// face polygon, certified so; inside the other body, the nearest face plane gives its depth. n is the pair's normal
+// (from B into A) and plane_a, plane_b its support planes along it: a vertex further than `margin`
+// beyond the other body's support plane is out of reach.
+void NarrowPhase::vertex_faces(int a, int b, const Vec3& n, double plane_a, double plane_b, double margin,
+                               double tolerance) {
+  for (int side = 0; side < 2; ++side) {
+    const int from = side == 0 ? a : b, to = side == 0 ? b : a;
+    const Polyhedron& pv = polyhedra[geometry[from].polyhedron];
+    const Polyhedron& pf = polyhedra[geometry[to].polyhedron];
+    const Mat3& Rf = rotation[from];
+    const Mat3& Rt = rotation[to];
+    const Vec3 towards = side == 0 ? n : Vec3(-n);  // out of `to`, towards `from`
+    const double reach = side == 0 ? plane_b + margin : -plane_a + margin;
+    const Vec3 facing = Rt.transpose() * towards;
+    for (const Vec3& v : pv.vertices) {
+      const Vec3 p = position[from] + Rf * v;
+      if (towards.dot(p) > reach) continue;
+      // The face whose plane the vertex lies furthest beyond; of faces within a twentieth of the
+      // contact margin of that (a vertex on an edge: cubes stacked corner on corner, sagging by the
+      // slop) the one facing the other body most, if the vertex lies over it. Its distance then
+      // errs by that much at most, on the side of caution.
+      const Vec3 local = Rt.transpose() * (p - position[to]);
+      int deepest_face = -1;
+      double top = -INFINITY;
+      for (int f : pf.supporting) {
+        const double d = pf.normals[f].dot(local) - pf.offsets[f];
+        if (d > top) top = d, deepest_face = f;
+      }
+      if (!(top <= margin)) continue;
+      int face = -1;
+      double s = top, alignment = -INFINITY;
+      for (int f : pf.supporting) {
+        const double d = pf.normals[f].dot(local) - pf.offsets[f], al = pf.normals[f].dot(facing);
+        if (d >= top - 0.05 * contact_margin && al > alignment) s = d, face = f, alignment = al;
+      }
+      auto inside = [&](int f, const Vec3& foot) {
+        for (int k = pf.face_offsets[f], end = pf.face_offsets[f + 1]; k < end; ++k) {
+          const Vec3& e0 = pf.vertices[pf.face_vertices[k]];
+          const Vec3& e1 = pf.vertices[pf.face_vertices[k + 1 < end ? k + 1 : pf.face_offsets[f]]];
+          if (pf.normals[f].cross(e1 - e0).dot(foot - e0) < -tolerance) return false;
+        }
+        return true;
+      };
+      Vec3 m, on_face;
+      if (inside(face, local - s * pf.normals[face])) {
+        m = Rt * pf.normals[face];
+        on_face = p - s * m;
+      } else if (top < 0) {
+        // Inside the other body: the nearest face plane gives the depth, and the foot on it lies
+        // on that face.
+        s = top;
+        m = Rt * pf.normals[deepest_face];
+        on_face = p - s * m;
+      } else {
+        // Beside an edge or a corner (the foot falls outside the face): the closest point of the
+        // face's polygon, provided the other body lies wholly behind the plane through it normal
+        // to the line from it to the vertex (then it is the body's closest point).
+        Face nearest;
+        nearest.index = deepest_face;
+        face_polygon(to, nearest, patch);
+        const Vec3 world_normal = Rt * pf.normals[deepest_face];
+        on_face = into_polygon(patch, world_normal, p - top * world_normal);
+        s = (p - on_face).norm();
+        if (!(s <= margin) || s == 0) continue;
+        m = (p - on_face) / s;
+        bool behind = true;
+        for (const Vec3& w : pf.vertices) behind = behind && m.dot(position[to] + Rt * w - on_face) <= tolerance;
+        if (!behind) continue;
+      }
+      if (!(m.dot(towards) > 0)) continue;
+      add_candidate(side == 0 ? PairPoint{p, on_face, m, s} : PairPoint{on_face, p, Vec3(-m), s}, tolerance);
+    }
+  }
+}
+
 // World velocity of the material point of `body` at p.
 Vec3 NarrowPhase::point_velocity(int body, const Vec3& p) const {
   return velocity[body] + angular_velocity[body].cross(p - position[body] - rotation[body] * com_local[body]);
 }
 
-// The pair's contacts (at most kMaxPoints) up to the separation `margin` (the pair's) into `out`.
-// `axis` is the pair's normal of the previous call (zero at first), updated here.
-int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCollisionObject& ob, double margin,
-                          Vec3& axis, PairPoint* out) {
+// Fills `candidates` with the pair's contact points up to the separation `margin` and returns the
+// pair's distance (+inf beyond the margin). `axis` is the pair's normal of the previous call (zero
+// at first), updated here.
+double NarrowPhase::generate(int a, int b, const btTransform& ta, const btTransform& tb, double margin, Vec3& axis) {
+  candidates.clear();
   // The broad phase pairs boxes grown by its own margin (Bullet's gDbvtMargin, 5 cm): pairs whose
   // boxes are further apart than the margin stop here, and so do pairs that the previous normal
   // still separates by more than the margin (any axis bounds the distance from below).
-  if (((box_lo[a] - box_hi[b]).array() > margin).any() || ((box_lo[b] - box_hi[a]).array() > margin).any()) return 0;
-  if (axis.squaredNorm() > 0 && axis.dot(support(a, -axis) - support(b, axis)) > margin) return 0;
+  if (((box_lo[a] - box_hi[b]).array() > margin).any() || ((box_lo[b] - box_hi[a]).array() > margin).any())
+    return INFINITY;
+  if (axis.squaredNorm() > 0 && axis.dot(support(a, -axis) - support(b, axis)) > margin) return INFINITY;
   const Geometry& ga = geometry[a];
   const Geometry& gb = geometry[b];
   // One rounded shape per pair keeps touching cores apart: none next to a sphere or capsule (their
@@ -795,8 +968,6 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   const btConvexShape* sa = round_a ? ga.rounded : ga.exact;
   const btConvexShape* sb = round_b ? gb.rounded : gb.exact;
   const double ra = round_a ? ga.rounding : ga.core_radius, rb = round_b ? gb.rounding : gb.core_radius;
-  const btTransform& ta = oa.getWorldTransform();
-  const btTransform& tb = ob.getWorldTransform();
   const double scale = ga.size + gb.size;
 
   // 1. Normal and closest pair by GJK on the cores (separated) or EPA on the shapes (cores overlap).
@@ -849,7 +1020,7 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   }
   axis = closest.normal;
   // A rounded shape lies within a few rounding radii inside the exact one.
-  if (converged && closest.distance > margin + 4 * (ga.rounding + gb.rounding)) return 0;
+  if (converged && closest.distance > margin + 4 * (ga.rounding + gb.rounding)) return INFINITY;
 
   // 2. The closest pair moves onto the exact shapes' support sets along the normal, so its distance
   //    is the gap between their support planes: exact for the true normal, which the cores share
@@ -883,7 +1054,7 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   closest.normal = axis = n;
   const double plane_a = n.dot(sa_set.p0), plane_b = n.dot(sb_set.p0);
   closest.distance = plane_a - plane_b;
-  if (!(closest.distance <= margin)) return 0;
+  if (!(closest.distance <= margin)) return INFINITY;
   const Vec3 across = meeting_point(sa_set, sb_set, n);
   closest.on_a = across + (plane_a - n.dot(across)) * n;
   closest.on_b = across + (plane_b - n.dot(across)) * n;
@@ -897,7 +1068,6 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
   //    the relative motion (a box falling past the edge of a tilted box lands with its bottom
   //    face, which is not the face along the closest pair's normal). Pairs at rest keep the
   //    aligned faces only, so piles get no extra rows.
-  candidates.clear();
   const bool fast = margin - contact_margin > contact_margin;
   clip_face(a, b, n, true, fast, margin, tolerance);
   if (fast) {
@@ -926,33 +1096,44 @@ int NarrowPhase::generate(int a, int b, const btCollisionObject& oa, const btCol
         }
     }
   }
+  if (ga.polyhedron >= 0 && gb.polyhedron >= 0) vertex_faces(a, b, n, plane_a, plane_b, margin, tolerance);
   // 5. The closest pair alone (edge on edge, round on round, nothing over the face), or with the
   //    other points when it is deeper than all of them (a tilted rim between the corners of its cap
   //    polygon, a part beside the face). The allowance is the normal's error times the extent of
   //    the support sets.
   if (closest.distance < deepest_distance(candidates) - 1e-7 * scale) candidates.push_back(closest);
-  const int count = reduce(candidates, n);
+  return closest.distance;
+}
+
+// The pair's contacts (at most kMaxPoints) up to its margin into `out`; `axis` as in generate().
+int NarrowPhase::pair_contacts(int a, int b, const btTransform& ta, const btTransform& tb, Vec3& axis,
+                               PairPoint* out) {
+  if (!(generate(a, b, ta, tb, pair_margin(a, b), axis) < INFINITY)) return 0;
+  for (PairPoint& p : candidates)
+    p.predicted = p.distance + h * p.normal.dot(point_velocity(a, p.on_a) - point_velocity(b, p.on_b));
+  // A resting pair sinks by about the solver's slop per step, well within the rounding allowance.
+  const int count = reduce(candidates, axis, std::min(geometry[a].size, geometry[b].size), 0.05 * contact_margin);
   std::copy(candidates.begin(), candidates.begin() + count, out);
   return count;
 }
 
-// The dispatcher keeps the narrow phase for its algorithms and gives new manifolds the contact
-// margin as Bullet's breaking threshold (Bullet's default is relative to the shape size); each
-// call of the pair's algorithm then sets the pair's own margin.
+// The dispatcher keeps the narrow phase for its algorithms.
 class Dispatcher : public btCollisionDispatcher {
  public:
   Dispatcher(btCollisionConfiguration* config, NarrowPhase* narrow)
       : btCollisionDispatcher(config), narrow_(narrow) {}
   NarrowPhase& narrow() { return *narrow_; }
-  btPersistentManifold* getNewManifold(const btCollisionObject* b0, const btCollisionObject* b1) override {
-    btPersistentManifold* m = btCollisionDispatcher::getNewManifold(b0, b1);
-    m->setContactBreakingThreshold(narrow_->contact_margin);
-    m->setContactProcessingThreshold(narrow_->contact_margin);
-    return m;
-  }
 
  private:
   NarrowPhase* narrow_;
+};
+
+// A pair's contact point as the pair keeps it between calls: the point, where it lies on each body
+// (shape frame), and its persistent id (0: none yet).
+struct PairContact {
+  PairPoint point;
+  Vec3 local_a, local_b;
+  std::uint64_t id = 0;
 };
 
 // The pair algorithm: generates the pair's points and carries ids over from its previous points.
@@ -960,29 +1141,27 @@ class PairAlgorithm : public btCollisionAlgorithm {
  public:
   PairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
                 const btCollisionObjectWrapper* w1)
-      : btCollisionAlgorithm(ci),
-        manifold_(m_dispatcher->getNewManifold(w0->getCollisionObject(), w1->getCollisionObject())) {}
-  ~PairAlgorithm() override { m_dispatcher->releaseManifold(manifold_); }
+      : btCollisionAlgorithm(ci), a_(w0->getCollisionObject()), b_(w1->getCollisionObject()) {}
 
   void processCollision(const btCollisionObjectWrapper*, const btCollisionObjectWrapper*, const btDispatcherInfo&,
                         btManifoldResult*) override {
     NarrowPhase& narrow = static_cast<Dispatcher*>(m_dispatcher)->narrow();
-    const btCollisionObject& oa = *manifold_->getBody0();
-    const btCollisionObject& ob = *manifold_->getBody1();
-    const int a = oa.getUserIndex(), b = ob.getUserIndex();
-    const double margin = narrow.pair_margin(a, b);
-    manifold_->setContactBreakingThreshold(margin);
-    manifold_->setContactProcessingThreshold(margin);
+    const int a = body_a(), b = body_b();
     PairPoint pts[kMaxPoints];
-    const int count = narrow.generate(a, b, oa, ob, margin, axis_, pts);
-    update_manifold(narrow, a, b, margin, pts, count);
+    const int count = narrow.pair_contacts(a, b, a_->getWorldTransform(), b_->getWorldTransform(), axis_, pts);
+    update(narrow, a, b, narrow.pair_margin(a, b), pts, count);
   }
 
   btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
                                  btManifoldResult*) override {
     return 1;
   }
-  void getAllContactManifolds(btManifoldArray& manifolds) override { manifolds.push_back(manifold_); }
+  void getAllContactManifolds(btManifoldArray&) override {}
+
+  int body_a() const { return a_->getUserIndex(); }
+  int body_b() const { return b_->getUserIndex(); }
+  int count() const { return count_; }
+  PairContact& contact(int i) { return contacts_[i]; }
 
   struct CreateFunc : btCollisionAlgorithmCreateFunc {
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
@@ -994,50 +1173,44 @@ class PairAlgorithm : public btCollisionAlgorithm {
   };
 
  private:
-  // Replaces the manifold's points by the new ones; a new point takes the id of the closest previous
+  // Replaces the pair's points by the new ones; a new point takes the id of the closest previous
   // point within the pair's margin (distance of the anchors in A's frame or in B's, whichever is
   // smaller), each previous point going to one new point at most, closest pairs first.
-  void update_manifold(const NarrowPhase& narrow, int a, int b, double margin, const PairPoint* pts, int count) {
+  void update(const NarrowPhase& narrow, int a, int b, double margin, const PairPoint* pts, int count) {
     const Mat3& Ra = narrow.rotation[a];
     const Mat3& Rb = narrow.rotation[b];
-    Vec3 local_a[kMaxPoints], local_b[kMaxPoints];
+    PairContact next[kMaxPoints];
     for (int i = 0; i < count; ++i) {
-      local_a[i] = Ra.transpose() * (pts[i].on_a - narrow.position[a]);
-      local_b[i] = Rb.transpose() * (pts[i].on_b - narrow.position[b]);
+      next[i].point = pts[i];
+      next[i].local_a = Ra.transpose() * (pts[i].on_a - narrow.position[a]);
+      next[i].local_b = Rb.transpose() * (pts[i].on_b - narrow.position[b]);
     }
-    const int old = manifold_->getNumContacts();
-    void* ids[kMaxPoints] = {};
     bool taken_new[kMaxPoints] = {}, taken_old[kMaxPoints] = {};
     const double radius2 = margin * margin;
-    for (int round = 0; round < std::min(count, old); ++round) {
+    for (int round = 0; round < std::min(count, count_); ++round) {
       int bi = -1, bj = -1;
       double best = radius2;
       for (int i = 0; i < count; ++i) {
         if (taken_new[i]) continue;
-        for (int j = 0; j < old; ++j) {
+        for (int j = 0; j < count_; ++j) {
           if (taken_old[j]) continue;
-          const btManifoldPoint& p = manifold_->getContactPoint(j);
-          const double d = std::min((to_eigen(p.m_localPointA) - local_a[i]).squaredNorm(),
-                                    (to_eigen(p.m_localPointB) - local_b[i]).squaredNorm());
+          const double d = std::min((contacts_[j].local_a - next[i].local_a).squaredNorm(),
+                                    (contacts_[j].local_b - next[i].local_b).squaredNorm());
           if (d <= best) best = d, bi = i, bj = j;
         }
       }
       if (bi < 0) break;
       taken_new[bi] = taken_old[bj] = true;
-      ids[bi] = manifold_->getContactPoint(bj).m_userPersistentData;
+      next[bi].id = contacts_[bj].id;
     }
-    for (int j = 0; j < old; ++j) manifold_->getContactPoint(j).m_userPersistentData = nullptr;
-    manifold_->clearManifold();
-    for (int i = 0; i < count; ++i) {
-      btManifoldPoint p(to_bt(local_a[i]), to_bt(local_b[i]), to_bt(pts[i].normal), pts[i].distance);
-      p.m_positionWorldOnA = to_bt(pts[i].on_a);
-      p.m_positionWorldOnB = to_bt(pts[i].on_b);
-      p.m_userPersistentData = ids[i];
-      manifold_->addManifoldPoint(p);
-    }
+    std::copy(next, next + count, contacts_);
+    count_ = count;
   }
 
-  btPersistentManifold* manifold_;
+  const btCollisionObject* a_;
+  const btCollisionObject* b_;
+  PairContact contacts_[kMaxPoints];
+  int count_ = 0;
   Vec3 axis_ = Vec3::Zero();  // the pair's last normal: warm start and separation test
 };
 
@@ -1153,7 +1326,7 @@ struct Collider::Impl {
   std::unique_ptr<Dispatcher> dispatcher;
   std::unique_ptr<btDbvtBroadphase> broadphase;
   std::unique_ptr<btCollisionWorld> world;  // destroyed first: it releases pairs and manifolds
-  std::vector<btManifoldPoint*> fresh;       // points awaiting an id in the current call
+  std::vector<PairContact*> fresh;           // points awaiting an id in the current call
   std::uint64_t last_id = 0;
 };
 
@@ -1176,8 +1349,10 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
 
   btDefaultCollisionConstructionInfo info;
   info.m_customCollisionAlgorithmMaxElementSize = static_cast<int>(sizeof(PairAlgorithm));
-  // Pools for the pairs of a dense pile (about 20 broad-phase pairs per body); beyond, Bullet allocates.
-  info.m_defaultMaxPersistentManifoldPoolSize = info.m_defaultMaxCollisionAlgorithmPoolSize = std::max(4096, 16 * n);
+  // A pool for the pairs of a dense pile (about 20 broad-phase pairs per body); beyond, Bullet
+  // allocates. The pair algorithms keep their points themselves: no manifolds.
+  info.m_defaultMaxCollisionAlgorithmPoolSize = std::max(4096, 16 * n);
+  info.m_defaultMaxPersistentManifoldPoolSize = 1;
   m.config = std::make_unique<btDefaultCollisionConfiguration>(info);
   m.dispatcher = std::make_unique<Dispatcher>(m.config.get(), &narrow);
   for (int t0 : {SPHERE_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, CAPSULE_SHAPE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,
@@ -1298,24 +1473,24 @@ void Collider::collide(const std::vector<Vec3>& frame_position, const std::vecto
   // Contacts with body_a dynamic (the lower index when both are), normal from b into a.
   contacts.clear();
   m.fresh.clear();
-  const int manifolds = m.dispatcher->getNumManifolds();
-  for (int k = 0; k < manifolds; ++k) {
-    btPersistentManifold& mf = *m.dispatcher->getManifoldByIndexInternal(k);
-    const int i0 = mf.getBody0()->getUserIndex(), i1 = mf.getBody1()->getUserIndex();
+  btBroadphasePairArray& pairs = m.world->getPairCache()->getOverlappingPairArray();
+  for (int k = 0; k < pairs.size(); ++k) {
+    if (!pairs[k].m_algorithm) continue;
+    PairAlgorithm& pair = *static_cast<PairAlgorithm*>(pairs[k].m_algorithm);
+    const int i0 = pair.body_a(), i1 = pair.body_b();
     const bool swap = m.is_static[i0] || (!m.is_static[i1] && i1 < i0);
-    for (int p = 0; p < mf.getNumContacts(); ++p) {
-      btManifoldPoint& pt = mf.getContactPoint(p);
+    for (int p = 0; p < pair.count(); ++p) {
+      PairContact& pc = pair.contact(p);
       Contact c;
       c.body_a = swap ? i1 : i0;
       c.body_b = swap ? i0 : i1;
-      const Vec3 normal = to_eigen(pt.m_normalWorldOnB);
-      c.normal = swap ? -normal : normal;
-      c.point = 0.5 * (to_eigen(pt.m_positionWorldOnA) + to_eigen(pt.m_positionWorldOnB));
-      c.distance = pt.m_distance1;
-      c.id = reinterpret_cast<std::uintptr_t>(pt.m_userPersistentData);
+      c.normal = swap ? Vec3(-pc.point.normal) : pc.point.normal;
+      c.point = 0.5 * (pc.point.on_a + pc.point.on_b);
+      c.distance = pc.point.distance;
+      c.id = pc.id;
       if (c.id == 0) {
         c.id = kFresh | m.fresh.size();
-        m.fresh.push_back(&pt);
+        m.fresh.push_back(&pc);
       }
       contacts.push_back(c);
     }
@@ -1328,9 +1503,7 @@ void Collider::collide(const std::vector<Vec3>& frame_position, const std::vecto
   // Fresh ids in sorted order: they exceed every earlier id, so the order stays sorted.
   for (Contact& c : contacts) {
     if (!(c.id & kFresh)) continue;
-    btManifoldPoint& pt = *m.fresh[c.id & ~kFresh];
-    c.id = ++m.last_id;
-    pt.m_userPersistentData = reinterpret_cast<void*>(static_cast<std::uintptr_t>(c.id));
+    c.id = m.fresh[c.id & ~kFresh]->id = ++m.last_id;
   }
 }
 

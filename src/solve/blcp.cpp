@@ -23,11 +23,6 @@ constexpr double kRoundoffFactor = 64;
 // Armijo's sufficient-decrease fraction and the step halvings tried along the projected path.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 60;
-// Pivoting iterations of the coupled friction problem, and the rounds (one solve, then refinement)
-// of each of its linear solves.
-constexpr int kMaxCoupledPivots = 30;
-constexpr int kCoupledRefinements = 3;
-
 
 double clamp_row(double v, double lo, double hi) { return std::clamp(v, lo, std::max(lo, hi)); }
 
@@ -279,186 +274,694 @@ BlcpResult solve_blcp(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vect
   return result;
 }
 
-}  // namespace rbpart
+namespace {
 
-namespace rbpart {
+// The coupled friction path (blcp.hpp). A row of the warm start's first piece that would sit exactly
+// on a bound or at w = 0 is moved this fraction of its scale inside (a degenerate first piece would
+// make the first pivot's direction undefined).
+constexpr double kStartMargin = 1e-3;
+// Woodbury columns allowed before the base is refactored for the current free set (also at least
+// twice the columns the base started with: the sliding rows, which always need one).
+constexpr int kMinColumns = 64;
+// Pivots per row before a path is abandoned; the cold path takes about five per row on rock piles.
+constexpr int kEventsPerRow = 16;
+// Two events closer than this (relative) are a tie; a normal row wins over its friction rows.
+constexpr double kTie = 1e-9;
+// Updates of the capacitance's explicit inverse between recomputations, and the smallest pivot an
+// update may divide by (C is I plus terms of order 1 on well-scaled pieces).
+constexpr int kRefresh = 32;
+constexpr double kSmallPivot = 1e-8;
+// Warm paths restarted from an end point that missed by round-off.
+constexpr int kWarmRestarts = 3;
+// Warm paths tried before the cold path (each from the end or the nearest point of the last).
+constexpr int kWarmPaths = 8;
+// Pivots without getting nearer to s = 0 after which a path is abandoned: at least kMinPatience,
+// one per kRowsPerPatience rows on large islands.
+constexpr int kMinPatience = 50;
+constexpr int kRowsPerPatience = 16;
+
+// The equation a row contributes to a piece of the path, E lambda = ra + s rd:
+//   Free    (A lambda)_j = -q_j - s d_j
+//   Bound   lambda_j = lo_j or hi_j                          (rows other than friction)
+//   Slide   lambda_t -+ mu lambda_n = +-s e_t                (friction on a bound of its box)
+//   Closed  lambda_t = 0                                     (friction, e_t = 0, normal at 0)
+enum class Eq : std::int8_t { Free, Bound, Slide, Closed };
+
+// Kinds of the slacks a piece keeps non-negative: 0 the upper bound (hi - lambda), 1 the lower
+// bound (lambda - lo), 2 the sign of w of a clamped row.
+constexpr int kUpperSlack = 0, kLowerSlack = 1, kWSlack = 2;
+
+class CoupledPath {
+ public:
+  CoupledPath(BlcpMatrix& a, const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+              const FrictionCoupling& f, CoupledWorkspace& ws)
+      : a_(a), q_(q), lo_(lo), hi_(hi), normal_of_(*f.normal_of), mu_(*f.mu), diag_(a.diagonal()), ws_(ws),
+        n_(a.size()), scale_(std::max(max_abs(q), kMinScale)) {
+    // Friction rows of every normal row (CSR), for the pivots that open or close a contact.
+    ws.friction_start.assign(n_ + 1, 0);
+    for (int j = 0; j < n_; ++j)
+      if (normal_of_[j] >= 0) ++ws.friction_start[normal_of_[j] + 1];
+    for (int j = 0; j < n_; ++j) ws.friction_start[j + 1] += ws.friction_start[j];
+    ws.friction_rows.resize(ws.friction_start[n_]);
+    ws.column_of.assign(ws.friction_start.begin(), ws.friction_start.end() - 1);  // fill cursor
+    for (int j = 0; j < n_; ++j)
+      if (normal_of_[j] >= 0) ws.friction_rows[ws.column_of[normal_of_[j]]++] = j;
+    for (Eigen::VectorXd* v : {&ws.d, &ws.e, &ws.lambda, &ws.w, &ws.dl, &ws.dw, &ws.ga, &ws.aga, &ws.gd, &ws.agd,
+                               &ws.g, &ws.ag, &ws.r, &ws.t, &ws.at})
+      v->resize(n_);
+    ws.sets.resize(n_);
+    ws.base_free.resize(n_);
+  }
+
+  // Start from a solution of the fixed-bounds BLCP (bounds lo/hi of the constructor): d and e are
+  // chosen so that it solves H(1) (blcp.hpp). False if A_FF cannot be factored.
+  bool start_warm(const Eigen::VectorXd& lambda, const std::vector<RowState>& state) {
+    ws_.sets = state;
+    ws_.lambda = lambda;
+    ws_.d.setZero();
+    ws_.e.setZero();
+    for (int t = 0; t < n_; ++t) {
+      if (!is_friction(t)) continue;
+      const int n = normal_of_[t];
+      if (ws_.sets[n] != RowState::Free) {  // closed until its normal opens
+        ws_.lambda[t] = 0;
+        ws_.sets[t] = RowState::Free;
+        continue;
+      }
+      // A row on a lagged bound beyond its own box keeps sliding on a box widened by e_t; a row
+      // inside its box is free (d_t below absorbs its w); a free row outside it is put inside.
+      const double box = mu_[t] * ws_.lambda[n], size = std::abs(ws_.lambda[t]);
+      if (ws_.sets[t] != RowState::Free && size > box) {
+        ws_.e[t] = size - box;
+      } else {
+        ws_.sets[t] = RowState::Free;
+        if (size >= box) ws_.e[t] = size - box + kStartMargin * (size + box);
+      }
+    }
+    a_.multiply(ws_.lambda, ws_.w);
+    ws_.w += q_;
+    const double margin = kStartMargin * scale_;
+    for (int j = 0; j < n_; ++j) {
+      const Eq type = eq(j);
+      if (type == Eq::Closed || fixed(j)) continue;
+      if (type == Eq::Free) ws_.d[j] = -ws_.w[j];
+      else if (ws_.sets[j] == RowState::Lower && ws_.w[j] < margin) ws_.d[j] = margin - ws_.w[j];
+      else if (ws_.sets[j] == RowState::Upper && ws_.w[j] > -margin) ws_.d[j] = -margin - ws_.w[j];
+    }
+    ws_.w += ws_.d;  // w of H(s) is A lambda + q + s d; s = 1
+    s_ = 1;
+    last_ = -1;
+    // The base is the last pass's free set, whose factor the matrix still holds.
+    for (int j = 0; j < n_; ++j) ws_.base_free[j] = state[j] == RowState::Free;
+    return set_base();
+  }
+
+  // The cold start: the piece for large s, where every bounded row other than friction is clamped
+  // (d = +-A_jj pushes its w the right way) and friction rows are free in boxes +-s mu_t; the path
+  // enters at the largest s where that piece ends. False if A_FF cannot be factored.
+  bool start_cold() {
+    ws_.d.setZero();
+    for (int j = 0; j < n_; ++j) {
+      ws_.lambda[j] = 0;
+      ws_.e[j] = is_friction(j) ? mu_[j] : 0.0;
+      ws_.sets[j] = RowState::Free;
+      if (is_friction(j)) continue;
+      if (fixed(j) || std::isfinite(lo_[j])) {
+        ws_.sets[j] = RowState::Lower;
+        ws_.lambda[j] = lo_[j];
+        if (!fixed(j)) ws_.d[j] = diag_[j];
+      } else if (std::isfinite(hi_[j])) {
+        ws_.sets[j] = RowState::Upper;
+        ws_.lambda[j] = hi_[j];
+        ws_.d[j] = -diag_[j];
+      }
+    }
+    for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
+    if (!set_base()) return false;
+    // On this piece lambda does not depend on s (rd = 0).
+    solve(false, ws_.lambda, ws_.w);
+    ws_.w += q_;
+    double start = 0;
+    int row = -1, kind = 0;
+    for (int j = 0; j < n_; ++j) {
+      double at = 0;
+      int k = kWSlack;
+      if (is_friction(j)) {
+        if (ws_.e[j] > 0) at = std::abs(ws_.lambda[j]) / ws_.e[j];
+        k = ws_.lambda[j] > 0 ? kUpperSlack : kLowerSlack;
+      } else if (ws_.d[j] != 0) {
+        at = -ws_.w[j] / ws_.d[j];
+      }
+      if (at > start) {
+        start = at;
+        row = j;
+        kind = k;
+      }
+    }
+    s_ = start;
+    ws_.w += s_ * ws_.d;
+    last_ = -1;
+    return row < 0 || pivot(row, kind);
+  }
+
+  // Follows the path from the current point to s = 0. False if it closes on itself, ends on an
+  // unbounded piece, needs more pivots than the cap, or a piece's system is singular.
+  bool follow() {
+    ws_.visited.clear();
+    lowest_ = std::numeric_limits<double>::infinity();
+    const int cap = kEventsPerRow * n_ + 100;
+    for (int events = 0;; ++events) {
+      // Direction of the piece: d lambda / ds and d w / ds.
+      solve(true, ws_.dl, ws_.dw);
+      ws_.dw += ws_.d;
+      int dir = -1;
+      if (last_ >= 0) {  // the pivoted row must move into its new feasible side
+        const double rate = entering_rate();
+        if (!(rate != 0) || !std::isfinite(rate)) return false;
+        dir = rate > 0 ? 1 : -1;
+      }
+      if (!ws_.visited.insert(hash(dir)).second) return false;
+      // Ratio test: the first slack to reach zero; ties go to rows other than friction (a normal
+      // reaching 0 takes its friction rows' boxes with it), then to the lowest index.
+      double best = std::numeric_limits<double>::infinity();
+      for_each_slack([&](int, int, double value, double rate) {
+        rate *= dir;
+        if (rate < 0) best = std::min(best, std::max(0.0, value) / -rate);
+      });
+      if (dir < 0 && !(best < s_)) {
+        advance(-s_);
+        s_ = 0;
+        return true;
+      }
+      if (!std::isfinite(best) || events >= cap) return false;
+      int row = -1, kind = 0;
+      for_each_slack([&](int j, int k, double value, double rate) {
+        rate *= dir;
+        if (!(rate < 0) || std::max(0.0, value) / -rate > best * (1 + kTie)) return;
+        if (row < 0 || (is_friction(row) && !is_friction(j))) {
+          row = j;
+          kind = k;
+        }
+      });
+      advance(dir * best);
+      s_ += dir * best;
+      ++ws_.events;
+      if (s_ < lowest_) {  // the point of the path nearest the problem itself, for a restart
+        lowest_ = s_;
+        lowest_event_ = events;
+        end_point(ws_.start, ws_.start_state);
+      } else if (events - lowest_event_ > patience_) {
+        return false;
+      }
+      if (!pivot(row, kind)) return false;
+    }
+  }
+
+  // The end of the path: the last piece solved at s = 0 and refined against A. Accepted if it
+  // satisfies the BLCP with friction bounds from its own normal impulses, within the tolerance;
+  // Inexact if only the tolerance fails (the pivots were decided on values carried along the path,
+  // whose round-off can misplace a row that ends within ~1e-8 of its switch): the end point is
+  // then a warm start one short path away (end_point()).
+  enum class End { Accepted, Inexact, Failed };
+  End finish(const BlcpSettings& settings, Eigen::VectorXd& lambda, std::vector<RowState>& state,
+             Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
+    solve(false, ws_.lambda, ws_.w);  // w holds A lambda here
+    auto terms = [&] {
+      double m = 0;
+      for (int j = 0; j < n_; ++j) m = std::max(m, std::abs(ws_.lambda[j]) * diag_[j]);
+      return m;
+    };
+    double tol = std::max(settings.tolerance * scale_, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms());
+    double previous = std::numeric_limits<double>::infinity();
+    for (int round = 0; round <= 3 * kMaxRefinements; ++round) {
+      // Residual of the piece's equations at s = 0, in units of w.
+      double residual = 0;
+      for (int j = 0; j < n_; ++j) {
+        double r = 0;
+        switch (eq(j)) {
+          case Eq::Free: r = -q_[j] - ws_.w[j]; break;
+          case Eq::Bound: r = bound(j) - ws_.lambda[j]; break;
+          case Eq::Slide: r = sign(j) * mu_[j] * ws_.lambda[normal_of_[j]] - ws_.lambda[j]; break;
+          case Eq::Closed: r = -ws_.lambda[j]; break;
+        }
+        ws_.r[j] = r;
+        residual = std::max(residual, std::abs(r) * (eq(j) == Eq::Free ? 1.0 : diag_[j]));
+      }
+      if (!(residual > 0) || !(residual < 0.5 * previous) || round == 3 * kMaxRefinements) break;
+      previous = residual;
+      if (!base_solve(ws_.r, ws_.g, ws_.ag)) return End::Failed;
+      woodbury(ws_.g, ws_.ag, ws_.t, ws_.at);
+      ws_.lambda += ws_.t;
+      ws_.w += ws_.at;
+    }
+    ws_.w += q_;
+    if (!ws_.lambda.allFinite() || !ws_.w.allFinite()) return End::Failed;
+    tol = std::max(settings.tolerance * scale_, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms());
+    ws_.lo = lo_;
+    ws_.hi = hi_;
+    set_friction_bounds({&normal_of_, &mu_}, ws_.lambda, ws_.lo, ws_.hi);
+    for (int j = 0; j < n_; ++j) {
+      const double l = ws_.lambda[j], w = ws_.w[j];
+      switch (eq(j)) {
+        case Eq::Free:
+          if (std::abs(w) > tol || (ws_.lo[j] - l) * diag_[j] > tol || (l - ws_.hi[j]) * diag_[j] > tol) return End::Inexact;
+          break;
+        case Eq::Bound:
+        case Eq::Slide:
+          if (!fixed(j) && (ws_.sets[j] == RowState::Lower ? w < -tol : w > tol)) return End::Inexact;
+          break;
+        case Eq::Closed: break;
+      }
+    }
+    // Clamped rows exactly on their bounds, free rows clamped against round-off.
+    for (int j = 0; j < n_; ++j) {
+      const bool open = ws_.lo[j] < ws_.hi[j];
+      switch (eq(j)) {
+        case Eq::Free:
+          lambda[j] = std::clamp(ws_.lambda[j], ws_.lo[j], std::max(ws_.lo[j], ws_.hi[j]));
+          state[j] = open ? RowState::Free : RowState::Lower;
+          break;
+        case Eq::Bound:
+        case Eq::Slide: {
+          const bool upper = ws_.sets[j] == RowState::Upper && open;
+          lambda[j] = upper ? ws_.hi[j] : ws_.lo[j];
+          state[j] = upper ? RowState::Upper : RowState::Lower;
+          break;
+        }
+        case Eq::Closed:
+          lambda[j] = 0;
+          state[j] = RowState::Lower;
+          break;
+      }
+    }
+    lo = ws_.lo;
+    hi = ws_.hi;
+    return End::Accepted;
+  }
+
+  // Whether the last follow() pivoted at all (and so left its point nearest s = 0 in ws.start).
+  bool moved() const { return lowest_ < std::numeric_limits<double>::infinity(); }
+
+  // The current point as a warm start (clamped rows on their bounds, closed friction rows at 0,
+  // sets as on the current piece).
+  void end_point(Eigen::VectorXd& lambda, std::vector<RowState>& state) const {
+    lambda = ws_.lambda;
+    state = ws_.sets;
+    for (int j = 0; j < n_; ++j) {
+      switch (eq(j)) {
+        case Eq::Free: break;
+        case Eq::Bound: lambda[j] = bound(j); break;
+        case Eq::Slide: lambda[j] = sign(j) * std::max(0.0, mu_[j] * lambda[normal_of_[j]]); break;
+        case Eq::Closed: lambda[j] = 0; state[j] = RowState::Lower; break;
+      }
+    }
+  }
+
+ private:
+  bool is_friction(int j) const { return normal_of_[j] >= 0; }
+  bool fixed(int j) const { return !is_friction(j) && !(lo_[j] < hi_[j]); }
+  double sign(int j) const { return ws_.sets[j] == RowState::Upper ? 1.0 : -1.0; }
+  double bound(int j) const { return ws_.sets[j] == RowState::Upper ? hi_[j] : lo_[j]; }
+
+  Eq eq(int j) const {
+    if (is_friction(j)) {
+      if (ws_.e[j] == 0 && ws_.sets[normal_of_[j]] != RowState::Free) return Eq::Closed;
+      return ws_.sets[j] == RowState::Free ? Eq::Free : Eq::Slide;
+    }
+    return ws_.sets[j] == RowState::Free ? Eq::Free : Eq::Bound;
+  }
+  // Right-hand sides of row j's equation (ra, and rd per unit s), and of its base equation: A_j
+  // with -q_j, -d_j on the base's free rows, lambda_j = 0 elsewhere.
+  double rhs(int j, bool per_s) const {
+    switch (eq(j)) {
+      case Eq::Free: return per_s ? -ws_.d[j] : -q_[j];
+      case Eq::Bound: return per_s ? 0.0 : bound(j);
+      case Eq::Slide: return per_s ? sign(j) * ws_.e[j] : 0.0;
+      case Eq::Closed: return 0.0;
+    }
+    return 0.0;
+  }
+  double base_rhs(int j, bool per_s) const { return ws_.base_free[j] ? (per_s ? -ws_.d[j] : -q_[j]) : 0.0; }
+  // Whether row j's equation or right-hand side differs from the base's (it then needs a column).
+  bool differs(int j) const {
+    const Eq type = eq(j);
+    if (ws_.base_free[j]) return type != Eq::Free;
+    return !(type == Eq::Closed || (type == Eq::Bound && bound(j) == 0));
+  }
+  // Row j of E applied to x (ax = A x), and of the base matrix.
+  template <class X, class AX>
+  double row_product(int j, const X& x, const AX& ax) const {
+    switch (eq(j)) {
+      case Eq::Free: return ax[j];
+      case Eq::Slide: return x[j] - sign(j) * mu_[j] * x[normal_of_[j]];
+      default: return x[j];
+    }
+  }
+  template <class X, class AX>
+  double base_product(int j, const X& x, const AX& ax) const {
+    return ws_.base_free[j] ? ax[j] : x[j];
+  }
+
+  // g = M_b^-1 r for the base matrix M_b (rows A_j on the base's free set F, identity rows
+  // elsewhere): g_C = r_C, g_F = A_FF^-1 (r_F - A_FC r_C), refined against A; ag = A g.
+  bool base_solve(const Eigen::VectorXd& r, Eigen::VectorXd& g, Eigen::VectorXd& ag) {
+    bool clamped = false;
+    for (int j = 0; j < n_; ++j) {
+      g[j] = ws_.base_free[j] ? 0.0 : r[j];
+      clamped = clamped || g[j] != 0;
+    }
+    if (clamped) a_.multiply(g, ag);
+    for (int j = 0; j < n_; ++j)
+      if (ws_.base_free[j]) g[j] = r[j] - (clamped ? ag[j] : 0.0);
+    a_.solve(g);
+    a_.multiply(g, ag);
+    double previous = std::numeric_limits<double>::infinity();
+    for (int round = 0; round < kMaxRefinements; ++round) {
+      double residual = 0, size = 0;
+      for (int j = 0; j < n_; ++j) {
+        size = std::max(size, std::abs(g[j]) * diag_[j]);
+        if (!ws_.base_free[j]) continue;
+        ws_.t[j] = r[j] - ag[j];
+        residual = std::max(residual, std::abs(ws_.t[j]));
+        size = std::max(size, std::abs(r[j]));
+      }
+      if (!(residual > kRoundoffFactor * std::numeric_limits<double>::epsilon() * size) || !(residual < 0.5 * previous))
+        break;
+      previous = residual;
+      for (int j = 0; j < n_; ++j)
+        if (!ws_.base_free[j]) ws_.t[j] = 0;
+      a_.solve(ws_.t);
+      g += ws_.t;
+      a_.multiply(g, ag);
+    }
+    return g.allFinite() && ag.allFinite();
+  }
+
+  // Factors the base (free set ws.base_free), solves its right-hand sides and adds a column for
+  // every row whose equation differs from the base's.
+  bool set_base() {
+    const int factored = a_.prepare(ws_.base_free);
+    if (factored < 0) return false;
+    ws_.factorizations += factored;
+    for (const bool per_s : {false, true}) {
+      for (int j = 0; j < n_; ++j) ws_.r[j] = base_rhs(j, per_s);
+      if (!base_solve(ws_.r, per_s ? ws_.gd : ws_.ga, per_s ? ws_.agd : ws_.aga)) return false;
+    }
+    columns_ = 0;
+    ws_.column_of.assign(n_, -1);
+    ws_.column_row.clear();
+    for (int j = 0; j < n_; ++j)
+      if (differs(j) && !add_column(j)) return false;
+    base_columns_ = columns_;
+    return build_capacitance();
+  }
+
+  bool add_column(int j) {
+    if (ws_.column_of[j] >= 0) return true;
+    if (ws_.y.cols() <= columns_) {
+      const int cols = std::max(2 * columns_, 16);
+      ws_.y.conservativeResize(n_, cols);
+      ws_.ay.conservativeResize(n_, cols);
+    }
+    ws_.r.setZero();
+    ws_.r[j] = 1;
+    if (!base_solve(ws_.r, ws_.g, ws_.ag)) return false;
+    ws_.y.col(columns_) = ws_.g;
+    ws_.ay.col(columns_) = ws_.ag;
+    ws_.column_of[j] = columns_++;
+    ws_.column_row.push_back(j);
+    return true;
+  }
+
+  // E = M_b + sum_c e_{j_c} u_c^T over the columns; the capacitance is C = I + U^T Y, and the
+  // Woodbury solves apply its inverse, kept explicitly: a pivot changes a row of C (a row whose
+  // equation changed) or borders it (a new column), both O(k^2) updates (Sherman-Morrison, the
+  // bordered inverse), where refactoring C would be O(k^3) per pivot. The inverse is recomputed
+  // from C by LU every kRefresh updates and whenever an update divides by a small pivot.
+  double capacitance_entry(int r, int c) const {
+    const int j = ws_.column_row[r];
+    return (r == c) + row_product(j, ws_.y.col(c), ws_.ay.col(c)) - base_product(j, ws_.y.col(c), ws_.ay.col(c));
+  }
+  void reserve_capacitance(int k) {
+    if (ws_.capacitance.rows() >= k) return;
+    const int cap = std::max(2 * k, 32);
+    ws_.capacitance.conservativeResize(cap, cap);
+    ws_.inverse.conservativeResize(cap, cap);
+  }
+  bool build_capacitance() {
+    const int k = columns_;
+    reserve_capacitance(k);
+    for (int r = 0; r < k; ++r)
+      for (int c = 0; c < k; ++c) ws_.capacitance(r, c) = capacitance_entry(r, c);
+    return refresh();
+  }
+  bool refresh() {
+    const int k = columns_;
+    updates_ = 0;
+    stale_ = false;
+    if (k == 0) return true;
+    ws_.lu.compute(ws_.capacitance.topLeftCorner(k, k));
+    // A singular piece is a degenerate point of the path.
+    if (!(ws_.lu.rcond() > std::numeric_limits<double>::epsilon())) return false;
+    ws_.inverse.topLeftCorner(k, k) = ws_.lu.inverse();
+    return true;
+  }
+  // Row r of C after its row's equation changed.
+  void update_row(int r) {
+    const int k = columns_;
+    ws_.v.resize(k);
+    for (int c = 0; c < k; ++c) ws_.v[c] = capacitance_entry(r, c) - ws_.capacitance(r, c);
+    if (ws_.v.isZero(0)) return;
+    ws_.capacitance.row(r).head(k) += ws_.v.transpose();
+    auto inverse = ws_.inverse.topLeftCorner(k, k);
+    ws_.vb.noalias() = inverse.transpose() * ws_.v;  // (v^T B)^T
+    const double pivot = 1 + ws_.vb[r];
+    ++updates_;
+    if (!(std::abs(pivot) > kSmallPivot)) {
+      stale_ = true;
+      return;
+    }
+    ws_.bc = inverse.col(r);
+    inverse.noalias() -= (ws_.bc / pivot) * ws_.vb.transpose();
+  }
+  // C bordered by the new last column and row.
+  void border() {
+    const int k = columns_ - 1;  // size before
+    reserve_capacitance(k + 1);
+    for (int r = 0; r <= k; ++r) ws_.capacitance(r, k) = capacitance_entry(r, k);
+    for (int c = 0; c < k; ++c) ws_.capacitance(k, c) = capacitance_entry(k, c);
+    ++updates_;
+    if (stale_ || k == 0) {
+      stale_ = stale_ || k > 0;
+      if (k == 0) ws_.inverse(0, 0) = 1 / ws_.capacitance(0, 0);
+      return;
+    }
+    auto inverse = ws_.inverse.topLeftCorner(k, k);
+    ws_.bc.noalias() = inverse * ws_.capacitance.col(k).head(k);            // B b
+    ws_.vb.noalias() = inverse.transpose() * ws_.capacitance.row(k).head(k).transpose();  // (c^T B)^T
+    const double schur = ws_.capacitance(k, k) - ws_.capacitance.row(k).head(k).dot(ws_.bc);
+    if (!(std::abs(schur) > kSmallPivot)) {
+      stale_ = true;
+      return;
+    }
+    inverse.noalias() += (ws_.bc / schur) * ws_.vb.transpose();
+    ws_.inverse.col(k).head(k) = -ws_.bc / schur;
+    ws_.inverse.row(k).head(k) = -ws_.vb.transpose() / schur;
+    ws_.inverse(k, k) = 1 / schur;
+  }
+
+  // x = E^-1 r from g = M_b^-1 r and ag = A g (Woodbury); ax = A x.
+  void woodbury(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    const int k = columns_;
+    x = g;
+    ax = ag;
+    if (k == 0) return;
+    ws_.z.resize(k);
+    for (int c = 0; c < k; ++c) {
+      const int j = ws_.column_row[c];
+      ws_.z[c] = row_product(j, g, ag) - base_product(j, g, ag);
+    }
+    ws_.zb.noalias() = ws_.inverse.topLeftCorner(k, k) * ws_.z;
+    x.noalias() -= ws_.y.leftCols(k) * ws_.zb;
+    ax.noalias() -= ws_.ay.leftCols(k) * ws_.zb;
+  }
+
+  // The piece's solution for ra (per_s false) or rd (true): its right-hand side is the base's
+  // plus a change on column rows only, so M_b^-1 of it is the base's solution plus Y delta.
+  void solve(bool per_s, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    const int k = columns_;
+    ws_.g = per_s ? ws_.gd : ws_.ga;
+    ws_.ag = per_s ? ws_.agd : ws_.aga;
+    if (k > 0) {
+      ws_.delta.resize(k);
+      for (int c = 0; c < k; ++c) {
+        const int j = ws_.column_row[c];
+        ws_.delta[c] = rhs(j, per_s) - base_rhs(j, per_s);
+      }
+      ws_.g.noalias() += ws_.y.leftCols(k) * ws_.delta;
+      ws_.ag.noalias() += ws_.ay.leftCols(k) * ws_.delta;
+    }
+    woodbury(ws_.g, ws_.ag, x, ax);
+  }
+
+  void advance(double ds) {
+    ws_.lambda += ds * ws_.dl;
+    ws_.w += ds * ws_.dw;
+  }
+
+  // Calls f(row, kind, value, d value / ds) for every slack of the current piece.
+  template <class F>
+  void for_each_slack(F&& f) const {
+    const Eigen::VectorXd &l = ws_.lambda, &dl = ws_.dl;
+    for (int j = 0; j < n_; ++j) {
+      switch (eq(j)) {
+        case Eq::Closed: break;
+        case Eq::Free:
+          if (is_friction(j)) {
+            const int n = normal_of_[j];
+            const double box = mu_[j] * l[n] + s_ * ws_.e[j], rate = mu_[j] * dl[n] + ws_.e[j];
+            f(j, kUpperSlack, box - l[j], rate - dl[j]);
+            f(j, kLowerSlack, box + l[j], rate + dl[j]);
+          } else {
+            if (std::isfinite(hi_[j])) f(j, kUpperSlack, hi_[j] - l[j], -dl[j]);
+            if (std::isfinite(lo_[j])) f(j, kLowerSlack, l[j] - lo_[j], dl[j]);
+          }
+          break;
+        case Eq::Bound:
+        case Eq::Slide:
+          if (fixed(j)) break;
+          if (ws_.sets[j] == RowState::Lower) f(j, kWSlack, ws_.w[j], ws_.dw[j]);
+          else f(j, kWSlack, -ws_.w[j], -ws_.dw[j]);
+          break;
+      }
+    }
+  }
+
+  // d/ds of the slack the last pivot made active (the one that must grow along the new piece).
+  double entering_rate() const {
+    const int j = last_;
+    if (ws_.sets[j] != RowState::Free) return ws_.sets[j] == RowState::Lower ? ws_.dw[j] : -ws_.dw[j];
+    double rate = 0;
+    for_each_slack([&](int row, int kind, double, double r) {
+      if (row == j && kind == last_kind_) rate = r;
+    });
+    return rate;
+  }
+
+  // Row j's slack `kind` reached zero: it changes sides, its equation changes, and so may those of
+  // its friction rows (a normal row that opens or closes its contact).
+  bool pivot(int j, int kind) {
+    if (ws_.sets[j] == RowState::Free) {
+      ws_.sets[j] = kind == kUpperSlack ? RowState::Upper : RowState::Lower;
+      if (is_friction(j))
+        ws_.lambda[j] = sign(j) * (mu_[j] * ws_.lambda[normal_of_[j]] + s_ * ws_.e[j]);
+      else
+        ws_.lambda[j] = bound(j);
+      last_kind_ = kWSlack;
+    } else {
+      last_kind_ = ws_.sets[j] == RowState::Upper ? kUpperSlack : kLowerSlack;
+      ws_.sets[j] = RowState::Free;
+      ws_.w[j] = 0;
+    }
+    last_ = j;
+    if (!changed(j)) return false;
+    // Friction rows closed with their normal open sliding against their w (their box grows from
+    // zero, so they start on it); they close again, at 0, when it does.
+    for (int c = ws_.friction_start[j]; c < ws_.friction_start[j + 1]; ++c) {
+      const int t = ws_.friction_rows[c];
+      if (ws_.e[t] != 0) continue;
+      if (ws_.sets[j] == RowState::Free) {
+        ws_.sets[t] = ws_.w[t] > 0 ? RowState::Lower : ws_.w[t] < 0 ? RowState::Upper : RowState::Free;
+      } else {
+        ws_.lambda[t] = 0;
+      }
+      if (!changed(t)) return false;
+    }
+    if (columns_ > std::max(kMinColumns, 2 * base_columns_)) {
+      for (int r = 0; r < n_; ++r) ws_.base_free[r] = eq(r) == Eq::Free;
+      return set_base();
+    }
+    return (stale_ || updates_ >= kRefresh) ? refresh() : true;
+  }
+  // Row j's equation changed: its row of C changes, or it needs a column.
+  bool changed(int j) {
+    if (ws_.column_of[j] >= 0) {
+      update_row(ws_.column_of[j]);
+      return true;
+    }
+    if (!differs(j)) return true;
+    if (!add_column(j)) return false;
+    border();
+    return true;
+  }
+
+  std::uint64_t hash(int dir) const {
+    std::uint64_t h = 1469598103934665603ull ^ static_cast<std::uint64_t>(dir + 1);
+    for (int j = 0; j < n_; ++j) {
+      const int set = eq(j) == Eq::Closed ? 3 : static_cast<int>(ws_.sets[j]);
+      h = (h ^ static_cast<std::uint64_t>(set)) * 1099511628211ull;  // FNV-1a
+    }
+    return h;
+  }
+
+  BlcpMatrix& a_;
+  const Eigen::VectorXd &q_, &lo_, &hi_;
+  const std::vector<int>& normal_of_;
+  const std::vector<double>& mu_;
+  const Eigen::VectorXd& diag_;
+  CoupledWorkspace& ws_;
+  const int n_;
+  const double scale_;
+  double s_ = 1;
+  int last_ = -1, last_kind_ = 0;
+  int columns_ = 0, base_columns_ = 0;
+  int updates_ = 0;     // updates of the capacitance's inverse since it was computed
+  bool stale_ = false;  // an update hit a small pivot: recompute the inverse
+  double lowest_ = std::numeric_limits<double>::infinity();
+  int lowest_event_ = 0;
+  int patience_ = std::max(kMinPatience, n_ / kRowsPerPatience);
+};
+
+}  // namespace
 
 bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
-                           const BlcpSettings& settings, CoupledWorkspace& cw) {
-  const int n = A.size();
-  if (n == 0) return true;
-  const std::vector<int>& normal_of = *f.normal_of;
-  const std::vector<double>& mu = *f.mu;
-  const Eigen::VectorXd& diag = A.diagonal();
-  const double scale = std::max(max_abs(q), kMinScale);
-  auto is_friction = [&](int j) { return normal_of[j] >= 0; };
-  // Working sets of the coupled problem. A friction row whose box was closed starts sticking (its
-  // normal may open it); its state only matters while its normal row is free.
-  cw.sets = state;
-  for (int j = 0; j < n; ++j)
-    if (is_friction(j) && !(lo[j] < hi[j])) cw.sets[j] = RowState::Free;
-  cw.free.assign(n, 0);
-  cw.slope.setZero(n);
-  cw.fixed.setZero(n);
-  cw.t.resize(n);
-  cw.u.resize(n);
-  cw.x.resize(n);
-  cw.w.resize(n);
-  cw.b.resize(n);
-  cw.lambda.resize(n);
-  auto assemble = [&](Eigen::VectorXd& out) {  // lambda from the free values in cw.x
-    for (int j = 0; j < n; ++j)
-      out[j] = cw.free[j] ? cw.x[j] : cw.slope[j] != 0 ? cw.slope[j] * cw.x[normal_of[j]] : cw.fixed[j];
-  };
-  double tol = settings.tolerance * scale;
-  // > 0: row j violates the coupled BLCP for the current sets, in units of w. A sliding row is on
-  // its bound by construction and needs the sign of w that pushes it there; a sticking row must
-  // stay inside +-mu lambda_n of its own normal; a friction row of a clamped normal is 0.
-  auto violation = [&](int j) {
-    const double l = cw.lambda[j], w = cw.w[j];
-    double low = lo[j], high = hi[j];
-    if (is_friction(j)) {
-      if (cw.sets[normal_of[j]] != RowState::Free) return 0.0;
-      high = mu[j] * std::max(0.0, cw.lambda[normal_of[j]]);
-      low = -high;
-    } else if (!(low < high)) {
-      return 0.0;
-    }
-    switch (cw.sets[j]) {
-      case RowState::Free: return std::max(low - l, l - high) * diag[j];
-      case RowState::Lower: return -w;
-      case RowState::Upper: return w;
-    }
-    return 0.0;
-  };
-
-  auto swap = [&](int j) {
-    if (cw.sets[j] != RowState::Free) cw.sets[j] = RowState::Free;
-    else if (is_friction(j)) cw.sets[j] = cw.lambda[j] > 0 ? RowState::Upper : RowState::Lower;
-    else cw.sets[j] = cw.lambda[j] < lo[j] ? RowState::Lower : RowState::Upper;
-  };
-  // Block principal pivoting on the coupled problem (DESIGN.md §3): every row that violates its
-  // conditions swaps, while the count of violating rows keeps reaching new lows.
-  int fewest = n + 1, patience = settings.pivot_patience;
-  bool solved = false;
-  for (int iteration = 0; iteration < kMaxCoupledPivots; ++iteration) {
-    for (int j = 0; j < n; ++j) {
-      cw.free[j] = 0;
-      cw.slope[j] = 0;
-      cw.fixed[j] = 0;
-      if (is_friction(j)) {
-        if (cw.sets[normal_of[j]] != RowState::Free) continue;  // its normal impulse is 0: held at 0
-        if (cw.sets[j] == RowState::Free) cw.free[j] = 1;
-        else cw.slope[j] = cw.sets[j] == RowState::Upper ? mu[j] : -mu[j];
-      } else if (cw.sets[j] == RowState::Free) {
-        cw.free[j] = 1;
-      } else {
-        cw.fixed[j] = cw.sets[j] == RowState::Upper ? hi[j] : lo[j];
-      }
-    }
-    const int factored = A.prepare(cw.free);
-    if (factored < 0) return false;
-    cw.factorizations += factored;
-    // The free rows' equations with the sliding rows substituted: (I + Z E) x_F = A_FF^-1 b_F,
-    // where E picks the k normal rows that carry sliding friction and column c of Z is
-    // A_FF^-1 (A g_c)_F, g_c = sum of slope_s e_s over the sliding rows s of normal c. Woodbury
-    // with the k x k capacitance I + E Z solves it exactly with k + 1 solves on the factor.
-    cw.normals.clear();
-    for (int j = 0; j < n; ++j)
-      if (cw.slope[j] != 0 && (cw.normals.empty() || cw.normals.back() != normal_of[j]))
-        cw.normals.push_back(normal_of[j]);
-    std::sort(cw.normals.begin(), cw.normals.end());
-    cw.normals.erase(std::unique(cw.normals.begin(), cw.normals.end()), cw.normals.end());
-    const int k = static_cast<int>(cw.normals.size());
-    cw.z.resize(n, k);
-    for (int c = 0; c < k; ++c) {
-      for (int j = 0; j < n; ++j) cw.t[j] = cw.slope[j] != 0 && normal_of[j] == cw.normals[c] ? cw.slope[j] : 0.0;
-      A.multiply(cw.t, cw.u);
-      for (int j = 0; j < n; ++j) cw.u[j] = cw.free[j] ? cw.u[j] : 0.0;
-      A.solve(cw.u);
-      cw.z.col(c) = cw.u;
-    }
-    cw.capacitance.setIdentity(k, k);
-    for (int r = 0; r < k; ++r) cw.capacitance.row(r) += cw.z.row(cw.normals[r]);
-    cw.lu.compute(cw.capacitance);
-    // Refined against A: the first round solves from lambda_F = 0, later ones correct round-off.
-    cw.x.setZero();
-    for (int round = 0; round < kCoupledRefinements; ++round) {
-      assemble(cw.lambda);
-      A.multiply(cw.lambda, cw.w);
-      cw.w += q;
-      for (int j = 0; j < n; ++j) cw.b[j] = cw.free[j] ? -cw.w[j] : 0.0;
-      A.solve(cw.b);
-      if (k > 0) {
-        cw.y.resize(k);
-        for (int c = 0; c < k; ++c) cw.y[c] = cw.b[cw.normals[c]];
-        cw.b -= cw.z * cw.lu.solve(cw.y);
-      }
-      for (int j = 0; j < n; ++j)
-        if (cw.free[j]) cw.x[j] += cw.b[j];
-    }
-    assemble(cw.lambda);
-    A.multiply(cw.lambda, cw.w);
-    cw.w += q;
-    if (!cw.lambda.allFinite() || !cw.w.allFinite()) return false;
-    double terms = 0;
-    for (int j = 0; j < n; ++j) terms = std::max(terms, std::abs(cw.lambda[j]) * diag[j]);
-    tol = std::max(settings.tolerance * scale, kRoundoffFactor * std::numeric_limits<double>::epsilon() * terms);
-    int count = 0;
-    for (int j = 0; j < n; ++j) count += violation(j) > tol;
-    if (count == 0) {
-      solved = true;
-      break;
-    }
-    if (count < fewest) {
-      fewest = count;
-      patience = settings.pivot_patience;
-    } else if (patience > 0) {
-      --patience;
-    }
-    // Block swaps while they make progress. Once they stall (block pivoting can cycle), one row
-    // swaps per iteration, the first violating friction row if any, else the first violating
-    // row: a normal row that opens under a sticking guess goes negative, and closing it again
-    // would undo the swap, whereas letting its friction slide resolves it.
-    if (patience > 0) {
-      for (int j = 0; j < n; ++j)
-        if (violation(j) > tol) swap(j);
+                           const BlcpSettings& settings, CoupledWorkspace& ws) {
+  if (A.size() == 0) return true;
+  CoupledPath path(A, q, lo, hi, f, ws);
+  using End = CoupledPath::End;
+  // Warm paths: from the fixed-bounds solution; from an end point that missed by round-off; after a
+  // path that closed on itself, from the fixed-bounds solution for the normal impulses of its point
+  // nearest s = 0 (a path through another start). follow() leaves that point in ws.start.
+  ws.start = lambda;
+  ws.start_state = state;
+  for (int attempt = 0; attempt < kWarmPaths; ++attempt) {
+    if (!path.start_warm(ws.start, ws.start_state)) break;
+    if (!path.follow()) {
+      if (!path.moved()) break;
+      ws.lo = lo;
+      ws.hi = hi;
+      update_friction_bounds(f, ws.start, ws.lo, ws.hi, ws.start_state);
+      const BlcpResult pass = solve_blcp(A, q, ws.lo, ws.hi, ws.start, ws.start_state, settings, ws.blcp);
+      ws.factorizations += pass.factorizations;
+      if (!pass.converged) break;
       continue;
     }
-    int first = -1;
-    for (int j = 0; j < n; ++j) {
-      if (violation(j) <= tol) continue;
-      if (is_friction(j)) {
-        first = j;
-        break;
-      }
-      if (first < 0) first = j;
-    }
-    swap(first);
+    const End end = path.finish(settings, lambda, state, lo, hi);
+    if (end == End::Accepted) return true;
+    if (end == End::Failed) break;
+    path.end_point(ws.start, ws.start_state);
   }
-  if (!solved) return false;
-  // Accept only an exact solution of the coupled BLCP: bounds from its own normal impulses.
-  cw.lo = lo;
-  cw.hi = hi;
-  set_friction_bounds(f, cw.lambda, cw.lo, cw.hi);
-  for (int j = 0; j < n; ++j) {
-    const double l = cw.lambda[j], w = cw.w[j];
-    if (cw.free[j]) {
-      if (std::abs(w) > tol || (cw.lo[j] - l) * diag[j] > tol || (l - cw.hi[j]) * diag[j] > tol) return false;
-    } else if (cw.lo[j] < cw.hi[j]) {
-      if (l <= cw.lo[j] ? w < -tol : l >= cw.hi[j] ? w > tol : std::abs(w) > tol) return false;
-    }
+  // The cold path, which cannot close on itself, and warm paths from its end if needed.
+  ++ws.cold_starts;
+  if (!path.start_cold() || !path.follow()) return false;
+  for (int attempt = 0;; ++attempt) {
+    const End end = path.finish(settings, lambda, state, lo, hi);
+    if (end == End::Accepted) return true;
+    if (end == End::Failed || attempt == kWarmRestarts) return false;
+    path.end_point(ws.start, ws.start_state);
+    if (!path.start_warm(ws.start, ws.start_state) || !path.follow()) return false;
   }
-  for (int j = 0; j < n; ++j) {
-    lambda[j] = std::clamp(cw.lambda[j], cw.lo[j], std::max(cw.lo[j], cw.hi[j]));
-    state[j] = cw.free[j] && cw.lo[j] < cw.hi[j] ? RowState::Free
-               : lambda[j] == cw.hi[j] && cw.lo[j] < cw.hi[j] ? RowState::Upper
-                                                              : RowState::Lower;
-  }
-  lo = cw.lo;
-  hi = cw.hi;
-  return true;
 }
 
 }  // namespace rbpart

@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 namespace rbpart {
@@ -134,29 +136,42 @@ inline void update_friction_bounds(const FrictionCoupling& f, const Eigen::Vecto
   }
 }
 
-// Buffers of coupled_friction_step.
+// Buffers of coupled_friction_step, kept across calls.
 struct CoupledWorkspace {
-  Eigen::VectorXd slope, fixed, t, u, x, w, b, y, lambda, lo, hi;
-  Eigen::MatrixXd z, capacitance;
+  std::vector<RowState> sets, start_state;    // the path's index sets; sets of a warm start
+  std::vector<char> base_free;                // free set of the factored base
+  std::vector<int> column_of, column_row;     // Woodbury columns: row -> column, column -> row
+  std::vector<int> friction_start, friction_rows;  // friction rows of each row (CSR)
+  std::unordered_set<std::uint64_t> visited;  // hashes of the visited (sets, direction) pairs
+  Eigen::VectorXd start, d, e, lambda, w, dl, dw, ga, aga, gd, agd, g, ag, r, t, at, z, delta, lo, hi;
+  Eigen::VectorXd v, vb, bc, zb;              // capacitance updates
+  Eigen::MatrixXd y, ay, capacitance, inverse;  // M_b^-1 e_j, A M_b^-1 e_j per column; C = I + U^T Y, C^-1
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-  std::vector<char> free;
-  std::vector<int> normals;
-  std::vector<RowState> sets;
+  BlcpWorkspace blcp;                         // fixed-bounds solves of restarts
   int factorizations = 0;  // factorisations over all calls (reused factors not counted)
+  int events = 0;          // pivots along the paths over all calls
+  int cold_starts = 0;     // calls that needed the cold start
 };
 
-// Exact solve of the coupled friction BLCP (DESIGN.md §3) by block principal pivoting on it, from
-// the index sets of the last fixed-bounds solve: a sliding friction row is tied to its normal row
-// (lambda_t = +-mu lambda_n) instead of to a lagged bound, and each iteration solves the resulting
-// linear system (A_FF plus a term of rank k = the normals with sliding rows, not symmetric)
-// exactly, by Woodbury on the factor of A_FF with a dense k x k capacitance, refined against A.
-// Rows whose conditions fail then swap: a sticking row outside +-mu lambda_n slides, a sliding row
-// whose w does not push it onto its bound sticks, other rows by the usual rule. If the sets settle
-// within a few iterations and the answer satisfies the BLCP with the friction bounds of its own
-// normal impulses (within the tolerance of BlcpSettings), lambda, state, lo and hi are replaced and
-// true is returned; otherwise nothing changes. The plain fixed-point passes oscillate where
-// redundant contacts (a face on a face) shift load between points with every change of their
-// bounds; the coupled problem has no lagged bounds to chase.
+// Exact solve of the coupled friction BLCP (DESIGN.md §3: friction bounds +-mu lambda_n of the row's
+// own normal impulse) by complementary pivoting along a piecewise-linear path (Lemke's method in the
+// BLCP's own variables). The path follows the solutions of the deformed problem H(s):
+//   normal rows  w_j + s d_j  complementary to lambda_j >= 0 (other rows with their fixed bounds),
+//   friction     |lambda_t| <= mu lambda_n + s e_t, e_t >= 0, with w_t + s d_t,
+// from s = 1 to s = 0 (the problem itself). On a piece the index sets are fixed and lambda is affine
+// in s; where a row reaches a bound or its w changes sign it pivots, and the direction of s is
+// whatever keeps that row feasible (s may rise for a while). Every piece solves one linear system
+// with sliding rows tied to their normals (lambda_t = +-(mu lambda_n + s e_t)), by Woodbury on a
+// single factorisation of A_FF: a pivot adds at most one column (one solve), not a factorisation.
+// Warm start: d and e make the fixed-bounds solution in `lambda`/`state` (bounds lo/hi) the
+// solution of H(1), so the path starts from the last pass's sets. That path can close on itself;
+// then the cold start runs: every normal at 0 with d_n = A_nn, e_t = mu_t, the only unbounded
+// piece (for s large), from which, with A symmetric positive definite, the path cannot escape to
+// another unbounded piece (the copositivity argument of Stewart & Trinkle 1996 for this LCP) and
+// must reach s = 0. The answer is polished by refinement against A and accepted only if it
+// satisfies the BLCP with the friction bounds of its own normal impulses (the tolerance of
+// BlcpSettings): then lambda, state, lo and hi are replaced and true is returned; otherwise
+// nothing changes (numerical failure, the event cap).
 bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& ws);
@@ -167,13 +182,20 @@ struct FrictionPassResult {
   bool settled = false;  // the coupled BLCP is solved (coupled step or settled normal impulses)
 };
 
+// Relative change of the normal impulses below which a pass reproduced its own bounds up to
+// round-off (redundant contacts amplify it to ~1e-11): the pass solved the coupled BLCP. Its
+// residual is measured, not assumed.
+constexpr double kSettledChange = 1e-10;
+
 // The friction outer loop of DESIGN.md §3, shared by every direct solver: the friction bounds are
 // fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and returns whether
 // it converged) and recomputed from the new normal impulses between passes; the first pass uses
-// the normal impulses in `lambda` on entry (the warm start). After every pass, `couple()` (the
-// solver's coupled_friction_step, from that pass's sets) may finish the loop exactly. Otherwise
-// stops after `max_passes` or when no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|;
-// a BLCP without friction rows takes one pass. `previous` is scratch.
+// the normal impulses in `lambda` on entry (the warm start). A pass whose normal impulses are those
+// its bounds came from (up to kSettledChange) has solved the coupled BLCP. Otherwise `couple()` (the solver's
+// coupled_friction_step, from that pass's solution) finishes the loop exactly; it is tried once,
+// after the first such pass. Only if it fails do the plain passes go on, until `max_passes` or until
+// no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|. A BLCP
+// without friction rows takes one pass. `previous` is scratch.
 template <class SolveFixed, class Couple>
 FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                                    Eigen::VectorXd& lo, Eigen::VectorXd& hi, int max_passes, double tolerance,
@@ -181,6 +203,7 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
   const std::vector<int>& normal_of = *f.normal_of;
   const bool has_friction = std::any_of(normal_of.begin(), normal_of.end(), [](int n) { return n >= 0; });
   FrictionPassResult result;
+  bool coupled_tried = false;
   previous = lambda;  // the normal impulses the bounds are taken from
   for (int pass = 0; pass < std::max(1, max_passes); ++pass) {
     update_friction_bounds(f, previous, lo, hi, state);
@@ -196,9 +219,18 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
       change = std::max(change, std::abs(lambda[n] - previous[n]));
       size = std::max(size, std::abs(lambda[n]));
     }
-    // The coupled solve starts from this pass's sets, which the lagged bounds usually got right or
-    // nearly so; it also polishes a pass that met the tolerance into an exact answer.
-    if (!has_friction || change == 0 || couple() || change <= tolerance * size) {
+    if (!has_friction || change <= kSettledChange * size) {
+      result.settled = true;
+      return result;
+    }
+    if (!coupled_tried) {
+      coupled_tried = true;
+      if (couple()) {
+        result.settled = true;
+        return result;
+      }
+    }
+    if (change <= tolerance * size) {
       result.settled = true;
       return result;
     }

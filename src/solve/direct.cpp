@@ -72,6 +72,8 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
       },
       [&] { return coupled_friction_step(*a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled); });
   out.passes = passes.passes;
+  // The coupled step's pivots are iterations (each one Woodbury solve on the factor of A_FF).
+  out.iterations += coupled.events;
   out.factorizations += coupled.factorizations;
   out.failed = !passes.solved;
 

@@ -3,11 +3,15 @@
 // constraint graph has the character the partitioning study needs (issue #3). The full-length runs
 // (500 steps, 200 and 600 rocks) are measured by `rbpart simulate`, not here, to keep CI short.
 //
-// Penetration: once the bodies are down (the last `late` steps) contacts must be within 1 cm. During
-// impacts at h = 1/60 s tumbling rocks and thin links still reach 2-5 cm (a feature the speculative
-// contacts did not have at the start of the step comes down within it; at h = 1/240 s the same
-// rock pile stays under 8 mm): a known gap of issue #3, bounded here at 10 cm so that a body
-// tunnelling through the floor, a wall or another body still fails.
+// Penetration: every contact within 1 cm at every step (issue #3) for the Log Tower and for rocks
+// dropped from two grid layers (up to 0.7 m above the floor). Two known gaps are bounded instead,
+// with the last `late` steps within 1 cm:
+// - A pile needs a narrow bin, so tall columns: rocks strike at up to 8 m/s, and one that an impact
+//   sets turning or sliding within the step can still bring a vertex 1-2 cm into a neighbour that
+//   its contacts at the start of the step (collide.hpp) did not guard: within 2.5 cm.
+// - The Chain Drop's links are pushed into the bar and the ground by the joints' position
+//   projection (integrate/joint_projection.cpp), which does not see contacts: within 10 cm, so that
+//   a link tunnelling through the bar or the ground still fails.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 
@@ -74,11 +78,12 @@ RunSummary run(World& w, int steps, int late = 0) {
   return r;
 }
 
-// Checks shared by every scene: shallow contacts, closed joints, no energy created beyond 1 % of
-// the scene's potential energy scale (Baumgarte correction may add a little), bodies near the origin.
-void expect_sound(const RunSummary& r, double world_radius) {
+// Checks shared by every scene: shallow contacts (within `deepest` at every step, 1 cm at the end),
+// closed joints, no energy created beyond 1 % of the scene's potential energy scale (Baumgarte
+// correction may add a little), bodies near the origin.
+void expect_sound(const RunSummary& r, double world_radius, double deepest = 0.01) {
   EXPECT_LE(r.late_penetration, 0.01);
-  EXPECT_LE(r.max_penetration, 0.1);
+  EXPECT_LE(r.max_penetration, deepest);
   ::testing::Test::RecordProperty("max_penetration_mm", std::to_string(1e3 * r.max_penetration));
   EXPECT_LE(r.max_joint_gap, 1e-3);
   EXPECT_LE(r.max_energy_gain, 0.01 * r.energy_scale);
@@ -88,7 +93,7 @@ void expect_sound(const RunSummary& r, double world_radius) {
 TEST(ChainDrop, FallsAcrossTheBarAndKeepsItsJoints) {
   World w(make_builtin_scene("chain_drop", {{"links", "40"}}));
   const RunSummary r = run(w, 240, 20);
-  expect_sound(r, 20.0);
+  expect_sound(r, 20.0, 0.1);
   // Every link is a node; the joints alone make the graph a path of links - 1 edges.
   const ConstraintGraph& g = w.graph();
   EXPECT_EQ(g.node_count(), 40);
@@ -122,10 +127,17 @@ TEST(LogTower, StandsUnderTheBlockAsALayeredLattice) {
   EXPECT_EQ(static_cast<int>(joined.size()), layers);
 }
 
-TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
-  World w(make_builtin_scene("rock_pile", {{"rocks", "30"}}));
-  const RunSummary r = run(w, 300, 50);
+TEST(RockPile, DroppedLowEveryContactStaysWithinOneCentimetre) {
+  World w(make_builtin_scene("rock_pile", {{"rocks", "30"}, {"layers", "2"}}));
+  const RunSummary r = run(w, 200, 50);
   expect_sound(r, 10.0);
+  EXPECT_LT(r.late_kinetic, 0.01 * r.peak_kinetic);
+}
+
+TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
+  World w(make_builtin_scene("rock_pile", {{"rocks", "24"}, {"layers", "6"}}));
+  const RunSummary r = run(w, 300, 50);
+  expect_sound(r, 10.0, 0.025);
   EXPECT_LT(r.late_kinetic, 0.01 * r.peak_kinetic);
   // A pile: rocks rest on rocks, so the graph has many edges and bodies of degree >= 3.
   const ConstraintGraph& g = w.graph();
@@ -136,7 +148,7 @@ TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
 }
 
 TEST(LargeRockPile, MassesComeFromTheSetAndThePileIsSound) {
-  World w(make_builtin_scene("large_rock_pile", {{"rocks", "30"}}));
+  World w(make_builtin_scene("large_rock_pile", {{"rocks", "30"}, {"layers", "2"}}));
   const Bodies& B = w.bodies();
   std::set<double> masses;
   for (int i = 0; i < B.size(); ++i)

@@ -124,6 +124,74 @@ TEST(Impact, CapsulesThrownAtEachOtherCollideInelastically) {
   }
 }
 
+TEST(Impact, TumblingRocksLandWithoutSinking) {
+  // Rocks as in the Rock Pile (hulls of 20 random points on a perturbed ellipsoid, 0.15-0.35 m)
+  // thrown spinning onto the ground (20 rad/s, 4 m/s down, up to 2 m/s across). A rock's faces are small triangles: landing on one and
+  // turning, it brings down vertices beside it that lie within the contact margin but outside the
+  // face, and each must be stopped by its own contact (collide.hpp) rather than sink until the
+  // error correction pushes it out. At rest the rock lies on its lowest vertices: the lowest is
+  // at the ground, up to the solver's slop.
+  SceneRandom rng(5);
+  double deepest = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    SceneDef scene;
+    scene.bodies.push_back(static_slab(Vec3(0, 0, -0.5), Vec3(5, 5, 0.5)));
+    BodyDef rock;
+    rock.name = "rock";
+    rock.shape.type = ShapeType::Convex;
+    const double size = rng.uniform(0.15, 0.35);
+    const Vec3 semi(0.5 * size, rng.uniform(0.6, 1.0) * 0.5 * size, rng.uniform(0.5, 0.9) * 0.5 * size);
+    for (int i = 0; i < 20; ++i) rock.shape.vertices.push_back(semi.cwiseProduct(rng.unit_vector()) * rng.uniform(0.85, 1.0));
+    rock.density = 2500;
+    rock.position = Vec3(0, 0, 0.2 + 0.5 * size);
+    rock.orientation = rng.rotation();
+    rock.velocity = Vec3(2 * rng.uniform(-1, 1), 2 * rng.uniform(-1, 1), -4);
+    rock.angular_velocity = 20 * rng.unit_vector();
+    scene.bodies.push_back(rock);
+    World w(scene);
+    SCOPED_TRACE(trial);
+    const double trial_deepest = run(w, 300);
+    deepest = std::max(deepest, trial_deepest);
+    EXPECT_LE(trial_deepest, 0.005);  // before vertex-face contacts: up to 38 mm
+    const Bodies& b = w.bodies();
+    double lowest = INFINITY;
+    for (const Vec3& v : w.scene().bodies[1].shape.vertices) lowest = std::min(lowest, Vec3(b.frame_position(1) + b.q[1] * v).z());
+    EXPECT_NEAR(lowest, 0, w.step_params().slop + 1e-4);
+    EXPECT_LT(b.v[1].norm() + b.w[1].norm(), 1e-2);
+  }
+  EXPECT_GT(deepest, 0);  // the rocks did land
+}
+
+TEST(Impact, CapsuleDroppedCrosswiseOnACapsuleRestsOnIt) {
+  // A chain link (capsule, radius 2.5 cm) dropped crosswise onto a static one from 0.5 m: the two
+  // axes end one radius sum apart, the falling link's centre 2 r above the static one's, and it
+  // must never have gone through (it reaches 3.1 m/s, 5 cm per step, its own thickness).
+  const double r = 0.025, half = 0.05;
+  SceneDef scene;
+  for (int k = 0; k < 2; ++k) {
+    BodyDef c;
+    c.name = k == 0 ? "bar" : "link";
+    c.is_static = k == 0;
+    c.shape.type = ShapeType::Capsule;
+    c.shape.radius = r;
+    c.shape.half_length = k == 0 ? 1.0 : half;
+    c.mass = 1;
+    c.position = Vec3(0, 0, k == 0 ? 1.0 : 1.5);
+    c.orientation = Quat(Eigen::AngleAxisd(M_PI / 2, k == 0 ? Vec3::UnitY() : Vec3::UnitX()));
+    scene.bodies.push_back(c);
+  }
+  World w(scene);
+  double deepest = 0, lowest = INFINITY;
+  for (int i = 0; i < 90; ++i) {
+    deepest = std::max(deepest, w.step().max_penetration);
+    lowest = std::min(lowest, w.bodies().x[1].z());
+  }
+  EXPECT_LE(deepest, kPenetration);
+  EXPECT_GE(lowest, 1.0 + 2 * r - kPenetration);
+  EXPECT_NEAR(w.bodies().x[1].z(), 1.0 + 2 * r, w.step_params().slop + 1e-4);
+  EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+}
+
 TEST(Impact, RestingStackKeepsItsContacts) {
   // At rest the margin is the contact margin: a ten-cube stack has exactly 4 corner contacts under
   // each cube (12 rows each), every step, and no pair of cubes two apart (0.5 m gap) ever appears.
