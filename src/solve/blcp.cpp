@@ -283,8 +283,11 @@ constexpr double kStartMargin = 1e-3;
 // Woodbury columns allowed before the base is refactored for the current free set (also at least
 // twice the columns the base started with: the sliding rows, which always need one).
 constexpr int kMinColumns = 64;
-// Pivots per row before a path is abandoned; the cold path takes about five per row on rock piles.
-constexpr int kEventsPerRow = 16;
+// Pivots of one coupled step (all its paths) before it gives up: kMinEvents plus one per row. On
+// rock piles (60-100 rocks, 150 steps) the steps it solves take at most one pivot per row but
+// one; those it cannot solve took up to 4.5 per row (10 s) before this budget, and the lagged
+// passes that follow a failure cost far less.
+constexpr int kMinEvents = 100;
 // Two events closer than this (relative) are a tie; a normal row wins over its friction rows.
 constexpr double kTie = 1e-9;
 // Updates of the capacitance's explicit inverse between recomputations, and the smallest pivot an
@@ -425,11 +428,10 @@ class CoupledPath {
   }
 
   // Follows the path from the current point to s = 0. False if it closes on itself, ends on an
-  // unbounded piece, needs more pivots than the cap, or a piece's system is singular.
+  // unbounded piece, exhausts the step's pivot budget, or a piece's system is singular.
   bool follow() {
     ws_.visited.clear();
     lowest_ = std::numeric_limits<double>::infinity();
-    const int cap = kEventsPerRow * n_ + 100;
     for (int events = 0;; ++events) {
       // Direction of the piece: d lambda / ds and d w / ds.
       solve(true, ws_.dl, ws_.dw);
@@ -453,7 +455,7 @@ class CoupledPath {
         s_ = 0;
         return true;
       }
-      if (!std::isfinite(best) || events >= cap) return false;
+      if (!std::isfinite(best) || ws_.events >= budget_) return false;
       int row = -1, kind = 0;
       for_each_slack([&](int j, int k, double value, double rate) {
         rate *= dir;
@@ -920,6 +922,7 @@ class CoupledPath {
   double lowest_ = std::numeric_limits<double>::infinity();
   int lowest_event_ = 0;
   int patience_ = std::max(kMinPatience, n_ / kRowsPerPatience);
+  int budget_ = ws_.events + kMinEvents + n_;  // ws.events at which every path gives up
 };
 
 }  // namespace
