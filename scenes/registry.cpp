@@ -114,8 +114,9 @@ Vec3 drop_grid_position(int i, int cols, double spacing, double z0, double jitte
 }
 
 void add_bin(SceneDef& scene, double hx, double hy, double height) {
-  const double t = 0.1;  // wall thickness
-  scene.bodies.push_back(static_box("floor", {0, 0, -t}, {hx + 2 * t, hy + 2 * t, t}));
+  const double t = 0.1;      // wall thickness
+  const double apron = 2.0;  // floor beyond the walls: a body thrown over a wall lands and stays
+  scene.bodies.push_back(static_box("floor", {0, 0, -t}, {hx + 2 * t + apron, hy + 2 * t + apron, t}));
   scene.bodies.push_back(static_box("wall_x-", {-hx - t, 0, height / 2}, {t, hy + 2 * t, height / 2}));
   scene.bodies.push_back(static_box("wall_x+", {hx + t, 0, height / 2}, {t, hy + 2 * t, height / 2}));
   scene.bodies.push_back(static_box("wall_y-", {0, -hy - t, height / 2}, {hx, t, height / 2}));
