@@ -774,6 +774,26 @@ class CoupledPath {
 
   // x = E^-1 r from g = M_b^-1 r and ag = A g (Woodbury); ax = A x.
   void woodbury(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    correct(g, ag, nullptr, x, ax);
+  }
+
+  // The piece's solution for ra (per_s false) or rd (true): its right-hand side is the base's
+  // plus delta on column rows only.
+  void solve(bool per_s, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    const int k = columns_;
+    ws_.delta.resize(k);
+    for (int c = 0; c < k; ++c) {
+      const int j = ws_.column_row[c];
+      ws_.delta[c] = rhs(j, per_s) - base_rhs(j, per_s);
+    }
+    correct(per_s ? ws_.gd : ws_.ga, per_s ? ws_.agd : ws_.aga, &ws_.delta, x, ax);
+  }
+
+  // x = E^-1 (r + sum_c delta_c e_{j_c}) from g = M_b^-1 r, ag = A g. With U^T the rows by which
+  // E differs from M_b and C = I + U^T Y, Woodbury gives x = g + Y delta - Y C^-1 U^T (g + Y delta),
+  // and U^T Y delta = (C - I) delta, so x = g + Y C^-1 (delta - U^T g): two n-by-k products, not four.
+  void correct(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, const Eigen::VectorXd* delta, Eigen::VectorXd& x,
+               Eigen::VectorXd& ax) {
     const int k = columns_;
     x = g;
     ax = ag;
@@ -781,29 +801,11 @@ class CoupledPath {
     ws_.z.resize(k);
     for (int c = 0; c < k; ++c) {
       const int j = ws_.column_row[c];
-      ws_.z[c] = row_product(j, g, ag) - base_product(j, g, ag);
+      ws_.z[c] = (delta ? (*delta)[c] : 0.0) - (row_product(j, g, ag) - base_product(j, g, ag));
     }
     ws_.zb.noalias() = ws_.inverse.topLeftCorner(k, k) * ws_.z;
-    x.noalias() -= ws_.y.leftCols(k) * ws_.zb;
-    ax.noalias() -= ws_.ay.leftCols(k) * ws_.zb;
-  }
-
-  // The piece's solution for ra (per_s false) or rd (true): its right-hand side is the base's
-  // plus a change on column rows only, so M_b^-1 of it is the base's solution plus Y delta.
-  void solve(bool per_s, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
-    const int k = columns_;
-    ws_.g = per_s ? ws_.gd : ws_.ga;
-    ws_.ag = per_s ? ws_.agd : ws_.aga;
-    if (k > 0) {
-      ws_.delta.resize(k);
-      for (int c = 0; c < k; ++c) {
-        const int j = ws_.column_row[c];
-        ws_.delta[c] = rhs(j, per_s) - base_rhs(j, per_s);
-      }
-      ws_.g.noalias() += ws_.y.leftCols(k) * ws_.delta;
-      ws_.ag.noalias() += ws_.ay.leftCols(k) * ws_.delta;
-    }
-    woodbury(ws_.g, ws_.ag, x, ax);
+    x.noalias() += ws_.y.leftCols(k) * ws_.zb;
+    ax.noalias() += ws_.ay.leftCols(k) * ws_.zb;
   }
 
   void advance(double ds) {

@@ -1,5 +1,6 @@
 #include "solve/sparse_matrix.hpp"
 
+#include <dlfcn.h>
 #include <suitesparse/cholmod.h>
 
 #include <algorithm>
@@ -7,12 +8,28 @@
 
 namespace rbpart {
 
+// Debian's CHOLMOD is built with OpenMP and a fixed team size: each supernode's assembly wakes the
+// team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
+// of the direct solver's time on a forming 100-rock pile (perf) - and they compete with the TBB
+// workers that already run islands and sub-systems in parallel. So its parallel regions get one
+// thread. The OpenMP runtime is looked up rather than linked: a CHOLMOD without OpenMP has none.
+static void serial_openmp() {
+  static const bool done = [] {
+    using SetLevels = void (*)(int);
+    if (auto set_levels = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
+      set_levels(0);
+    return true;
+  }();
+  (void)done;
+}
+
 // One CHOLMOD supernodal Cholesky factorisation of a fixed-pattern symmetric matrix whose lower
 // triangle lives in caller-owned arrays: analyse once, refactor and solve many times, reusing the
 // factor's storage and the solve workspaces.
 class CholmodFactor {
  public:
   CholmodFactor() {
+    serial_openmp();
     cholmod_start(&c_);
     c_.supernodal = CHOLMOD_SUPERNODAL;
     // AMD only (skips CHOLMOD's trial of METIS: the analysis runs every step), and coarser relaxed

