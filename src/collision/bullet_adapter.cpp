@@ -1011,10 +1011,16 @@ double NarrowPhase::generate(int a, int b, const btTransform& ta, const btTransf
     if (epa && ga.type != ShapeType::Cylinder && gb.type != ShapeType::Cylinder) {
       closest = from_epa;
     } else {
+      // GJK stopped short: its distance is an upper bound, its normal possibly far off. Axes are
+      // compared by the gap between the exact shapes' support planes, a lower bound that is the
+      // distance on the true axis (a box resting 4e-7 m from another's face, GJK stopped at
+      // 1 cm along a wrong axis: its planes overlapped by 0.22 m, which became a contact's depth).
       const PairPoint face = best_face_axis(a, b, axis);
+      const double gjk_gap =
+          have_pair ? closest.normal.dot(support(a, -closest.normal) - support(b, closest.normal)) : -INFINITY;
       if (epa && r.distance >= face.distance - tolerance)
         closest = from_epa;
-      else if (!have_pair || face.distance > closest.distance)
+      else if (face.distance > gjk_gap)
         closest = face;
     }
   }

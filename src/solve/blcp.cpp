@@ -561,6 +561,18 @@ class CoupledPath {
     return End::Accepted;
   }
 
+  // Whether the cold path can still reach s = 0 within the pivot budget: it starts with every
+  // bounded row other than friction clamped, so each one the fixed-bounds solution `state` has free
+  // must pivot at least once (on 100-200-rock piles the warm paths leave less than that, and the
+  // cold path, entering at s ~ 10-200, always ran out: 9 of 9 times).
+  bool cold_path_fits(const std::vector<RowState>& state) const {
+    int pivots = 0;
+    for (int j = 0; j < n_; ++j)
+      pivots += !is_friction(j) && !fixed(j) && state[j] == RowState::Free &&
+                (std::isfinite(lo_[j]) || std::isfinite(hi_[j]));
+    return ws_.events + pivots <= budget_;
+  }
+
   // Whether the last follow() pivoted at all (and so left its point nearest s = 0 in ws.start).
   bool moved() const { return lowest_ < std::numeric_limits<double>::infinity(); }
 
@@ -958,6 +970,7 @@ bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::Vecto
     path.end_point(ws.start, ws.start_state);
   }
   // The cold path, which cannot close on itself, and warm paths from its end if needed.
+  if (!path.cold_path_fits(state)) return false;
   ++ws.cold_starts;
   if (!path.start_cold() || !path.follow()) return false;
   for (int attempt = 0;; ++attempt) {

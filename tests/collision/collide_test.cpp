@@ -516,6 +516,30 @@ TEST(Collide, EpaGivingUpFallsBackToTheBestFaceAxis) {
   }
 }
 
+TEST(Collide, GjkStoppingShortFallsBackToTheBestFaceAxis) {
+  // Two boxes of the 200-box pile at rest side by side (step 203), 4.3e-7 m apart across A's face
+  // (separating axes by hand: that face's normal is the only one with a gap). btGjkEpaSolver2's GJK
+  // stops short here at 1 cm along (1, 0.002, 0), an axis on which the boxes' support planes
+  // overlap by 0.22 m; that overlap used to become a contact 0.22 m deep.
+  Fixture f;
+  BodyDef a = box(Vec3(0.17333104735985932, 0.17163214792820555, 0.23209116182278028));
+  BodyDef b = box(Vec3(0.11291485535884477, 0.1894615704015534, 0.2057517919568597));
+  a.position = Vec3(-0.54513022454801, 0.44991970374213364, 0.1716315583369852);
+  a.orientation = Quat(0.682699156796549, 0.6826989548305665, -0.18417928812898518, -0.18417922848908239);
+  b.position = Vec3(-0.7932994283187336, 0.8307355872231955, 0.22375679512654398);
+  b.orientation = Quat(0.05447495188818628, 0.7577211539273059, -0.6486153923010214, 0.04678894504094001);
+  f.add(a);
+  f.add(b);
+  const Vec3 face = a.orientation.normalized() * Vec3::UnitX();  // A's face normal, towards -B
+  const auto& c = f.run_scene_poses();
+  ASSERT_FALSE(c.empty());
+  for (const Contact& k : c) {
+    EXPECT_NEAR(k.normal.dot(face), 1.0, 1e-6);
+    EXPECT_GT(k.distance, 0.0);
+    EXPECT_LT(k.distance, 1e-6);
+  }
+}
+
 TEST(Collide, NothingBeyondTheMargin) {
   Fixture f;
   f.add(ground());
