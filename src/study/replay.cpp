@@ -19,13 +19,6 @@ namespace {
 enum Phase { kPartition, kRefine, kSolve, kWork, kCriticalPath, kPhases };
 using Sample = std::array<double, kPhases>;
 
-double median(std::vector<double>& v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  if (v.size() % 2) return v[mid];
-  return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + mid));
-}
-
 double lambda_error(const std::vector<double>& lambda, const std::vector<double>& live) {
   double diff = 0, scale = 0;
   for (std::size_t j = 0; j < live.size(); ++j) {
@@ -110,6 +103,14 @@ class Runner {
 };
 
 }  // namespace
+
+double median(std::vector<double>& v) {
+  if (v.empty()) return 0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  if (v.size() % 2) return v[mid];
+  return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + mid));
+}
 
 ReplayResult replay_trajectory(const Trajectory& trajectory, const std::vector<StudyConfig>& configs, int repeats,
                                const SolverParams& solver_params, const PartitionParams& partition_params,

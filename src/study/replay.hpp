@@ -42,6 +42,9 @@ struct ReplayResult {
   int direct_mismatches = 0;
 };
 
+// The median of v (reordered in place); 0 if v is empty.
+double median(std::vector<double>& v);
+
 // Solves every recorded step with every configuration, `repeats` times. Within a step the
 // configurations take turns, in an order rotated by one each repeat, so slow drifts of the
 // machine's load touch them all alike. `on_run` is called after each solve.

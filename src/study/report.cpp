@@ -21,7 +21,7 @@ std::string key_columns(const std::string& scene, const StudyConfig& c) {
 
 const char* kSummaryColumns =
     "scene,solver,partitioner,refine,nmax,threads,dynamic_bodies,simulated_steps,recorded_steps,mean_solve_ms,"
-    "max_solve_ms,mean_partition_ms,mean_refine_ms,mean_work_ms,mean_critical_path_ms,mean_parts,mean_interface_rows,"
+    "median_solve_ms,max_solve_ms,mean_partition_ms,mean_refine_ms,mean_work_ms,mean_critical_path_ms,mean_parts,mean_interface_rows,"
     "mean_interface_bodies,mean_edge_cut,mean_loop_iterations,fallbacks,solve_vs_mindp,max_lambda_error\n";
 
 std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
@@ -29,7 +29,7 @@ std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
   std::string line = key_columns(scene.label, s.config);
   for (const int v : {scene.dynamic_bodies, scene.simulated_steps, static_cast<int>(scene.steps.size())})
     line += ',' + std::to_string(v);
-  for (const double v : {s.mean_solve_ms, s.max_solve_ms, s.mean_partition_ms, s.mean_refine_ms})
+  for (const double v : {s.mean_solve_ms, s.median_solve_ms, s.max_solve_ms, s.mean_partition_ms, s.mean_refine_ms})
     line += ',' + round_trip(v);
   for (const double v : {s.mean_work_ms, s.mean_critical_path_ms}) line += ',' + (direct ? std::string() : round_trip(v));
   for (const double v : {s.mean_parts, s.mean_interface_rows, s.mean_interface_bodies, s.mean_edge_cut})
@@ -61,7 +61,9 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
   for (std::size_t c = 0; c < scene.configs.size(); ++c) {
     ConfigSummary& s = out[c];
     s.config = scene.configs[c];
+    std::vector<double> solve;
     for (const StepMeasure& m : scene.replay.measures[c]) {
+      solve.push_back(m.solve_ms);
       s.mean_solve_ms += m.solve_ms;
       s.max_solve_ms = std::max(s.max_solve_ms, m.solve_ms);
       s.mean_partition_ms += m.partition_ms;
@@ -80,6 +82,7 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
                       &s.mean_parts, &s.mean_interface_rows, &s.mean_interface_bodies, &s.mean_edge_cut,
                       &s.mean_loop_iterations})
       *v = n > 0 ? *v / static_cast<double>(n) : 0.0;
+    s.median_solve_ms = median(solve);
   }
   // The reference: MinDP unrefined, same threads and n_max (the first n_max for the baseline).
   for (ConfigSummary& s : out) {
@@ -149,11 +152,11 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
     out += "| solver | partitioner | refine |";
     if (many_nmax) out += " n_max |";
     if (many_threads) out += " threads |";
-    out += " solve mean (ms) | solve max (ms) | partition (ms) | refine (ms) | parts | interface rows |"
-           " loop iterations | fallbacks | vs MinDP |\n|---|---|---|";
+    out += " solve mean (ms) | solve median (ms) | solve max (ms) | critical path (ms) | partition (ms) |"
+           " refine (ms) | parts | interface rows | loop iterations | fallbacks | vs MinDP |\n|---|---|---|";
     if (many_nmax) out += "---:|";
     if (many_threads) out += "---:|";
-    out += "---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    out += "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const ConfigSummary& s : summary) {
       const StudyConfig& c = s.config;
       out += std::string("| ") + (c.direct() ? "direct (monolithic)" : "substructured") + " | " +
@@ -161,7 +164,8 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
              (c.direct() ? "—" : refiner_name(c.refiner)) + " |";
       if (many_nmax) out += " " + (c.direct() ? std::string("—") : std::to_string(c.nmax)) + " |";
       if (many_threads) out += " " + std::to_string(c.threads) + " |";
-      out += " " + format("%.3f", s.mean_solve_ms) + " | " + format("%.3f", s.max_solve_ms) + " | " +
+      out += " " + format("%.3f", s.mean_solve_ms) + " | " + format("%.3f", s.median_solve_ms) + " | " +
+             format("%.3f", s.max_solve_ms) + " | " + (c.direct() ? "—" : format("%.3f", s.mean_critical_path_ms)) + " | " +
              (c.direct() ? "—" : format("%.4f", s.mean_partition_ms)) + " | " +
              (c.direct() ? "—" : format("%.4f", s.mean_refine_ms)) + " | " + format("%.1f", s.mean_parts) + " | " +
              (c.direct() ? "—" : format("%.1f", s.mean_interface_rows)) + " | " +

@@ -21,10 +21,11 @@ struct SceneResult {
   double capture_ms = 0, replay_ms = 0;
 };
 
-// Means over a scene's recorded steps of one configuration's per-step medians.
+// Means over a scene's recorded steps of one configuration's per-step medians (and their median
+// over the steps: one landing step whose friction path takes 100 times the others moves the mean).
 struct ConfigSummary {
   StudyConfig config;
-  double mean_solve_ms = 0, max_solve_ms = 0, mean_partition_ms = 0, mean_refine_ms = 0;
+  double mean_solve_ms = 0, median_solve_ms = 0, max_solve_ms = 0, mean_partition_ms = 0, mean_refine_ms = 0;
   double mean_work_ms = 0, mean_critical_path_ms = 0;  // substructured only
   double mean_parts = 0, mean_interface_rows = 0, mean_interface_bodies = 0, mean_edge_cut = 0;
   double mean_loop_iterations = 0;
