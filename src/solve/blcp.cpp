@@ -283,11 +283,13 @@ constexpr double kStartMargin = 1e-3;
 // Woodbury columns allowed before the base is refactored for the current free set (also at least
 // twice the columns the base started with: the sliding rows, which always need one).
 constexpr int kMinColumns = 64;
-// Pivots of one coupled step (all its paths) before it gives up: kMinEvents plus one per row. On
-// rock piles (60-100 rocks, 150 steps) the steps it solves take at most one pivot per row but
-// one; those it cannot solve took up to 4.5 per row (10 s) before this budget, and the lagged
-// passes that follow a failure cost far less.
+// Pivots of one coupled step (all its paths) before it gives up: kMinEvents plus one per
+// kRowsPerEvent rows. The steps it solved on forming rock piles (100 and 200 rocks, up to 5600
+// rows) took at most 0.5 pivots per row (1063 of ~2400, 2357 of ~5400); those it could not solve
+// ran to any budget (4.5 per row before there was one, 20-100 s a step at 200 rocks with one per
+// row), and the lagged passes that follow a failure cost far less.
 constexpr int kMinEvents = 100;
+constexpr int kRowsPerEvent = 2;
 // Two events closer than this (relative) are a tie; a normal row wins over its friction rows.
 constexpr double kTie = 1e-9;
 // Updates of the capacitance's explicit inverse between recomputations, and the smallest pivot an
@@ -936,7 +938,7 @@ class CoupledPath {
   double lowest_ = std::numeric_limits<double>::infinity();
   int lowest_event_ = 0;
   int patience_ = std::max(kMinPatience, n_ / kRowsPerPatience);
-  int budget_ = ws_.events + kMinEvents + n_;  // ws.events at which every path gives up
+  int budget_ = ws_.events + kMinEvents + n_ / kRowsPerEvent;  // ws.events at which every path gives up
 };
 
 }  // namespace
