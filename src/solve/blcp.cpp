@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 
 #include <limits>
+#include <optional>
 
 namespace rbpart {
 
@@ -336,6 +337,7 @@ class CoupledPath {
       v->resize(n_);
     ws.sets.resize(n_);
     ws.base_free.resize(n_);
+    ws.mixed_free.resize(n_);
   }
 
   // Start from a solution of the fixed-bounds BLCP (bounds lo/hi of the constructor): d and e are
@@ -404,7 +406,7 @@ class CoupledPath {
     for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
     if (!set_base()) return false;
     // On this piece lambda does not depend on s (rd = 0).
-    solve(false, ws_.lambda, ws_.w);
+    solve_point(ws_.lambda, ws_.w);
     ws_.w += q_;
     double start = 0;
     int row = -1, kind = 0;
@@ -435,9 +437,7 @@ class CoupledPath {
     ws_.visited.clear();
     lowest_ = std::numeric_limits<double>::infinity();
     for (int events = 0;; ++events) {
-      // Direction of the piece: d lambda / ds and d w / ds.
-      solve(true, ws_.dl, ws_.dw);
-      ws_.dw += ws_.d;
+      direction();
       int dir = -1;
       if (last_ >= 0) {  // the pivoted row must move into its new feasible side
         const double rate = entering_rate();
@@ -489,7 +489,7 @@ class CoupledPath {
   enum class End { Accepted, Inexact, Failed };
   End finish(const BlcpSettings& settings, Eigen::VectorXd& lambda, std::vector<RowState>& state,
              Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
-    solve(false, ws_.lambda, ws_.w);  // w holds A lambda here
+    solve_point(ws_.lambda, ws_.w);  // w holds A lambda here
     auto terms = [&] {
       double m = 0;
       for (int j = 0; j < n_; ++j) m = std::max(m, std::abs(ws_.lambda[j]) * diag_[j]);
@@ -686,6 +686,7 @@ class CoupledPath {
     columns_ = 0;
     ws_.column_of.assign(n_, -1);
     ws_.column_row.clear();
+    for (int j = 0; j < n_; ++j) ws_.mixed_free[j] = eq(j) == Eq::Free;
     for (int j = 0; j < n_; ++j)
       if (differs(j) && !add_column(j)) return false;
     base_columns_ = columns_;
@@ -698,12 +699,14 @@ class CoupledPath {
       const int cols = std::max(2 * columns_, 16);
       ws_.y.conservativeResize(n_, cols);
       ws_.ay.conservativeResize(n_, cols);
+      ws_.mixed.conservativeResize(n_, cols);
     }
     ws_.r.setZero();
     ws_.r[j] = 1;
     if (!base_solve(ws_.r, ws_.g, ws_.ag)) return false;
     ws_.y.col(columns_) = ws_.g;
     ws_.ay.col(columns_) = ws_.ag;
+    for (int i = 0; i < n_; ++i) ws_.mixed(i, columns_) = ws_.mixed_free[i] ? ws_.g[i] : ws_.ag[i];
     ws_.column_of[j] = columns_++;
     ws_.column_row.push_back(j);
     return true;
@@ -786,40 +789,67 @@ class CoupledPath {
     ws_.inverse(k, k) = 1 / schur;
   }
 
-  // x = E^-1 r from g = M_b^-1 r and ag = A g (Woodbury); ax = A x.
-  void woodbury(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
-    correct(g, ag, nullptr, x, ax);
-  }
-
-  // The piece's solution for ra (per_s false) or rd (true): its right-hand side is the base's
-  // plus delta on column rows only.
-  void solve(bool per_s, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+  // zb = C^-1 (delta - U^T g) for the right-hand side r + sum_c delta_c e_{j_c}, where g = M_b^-1 r
+  // and ag = A g, and delta is the piece's change of the base's right-hand side for ra (per_s
+  // false) or rd (true), or 0 (none). With U^T the rows by which E differs from M_b and
+  // C = I + U^T Y, Woodbury gives x = E^-1 (...) = g + Y delta - Y C^-1 U^T (g + Y delta), and
+  // U^T Y delta = (C - I) delta, so x = g + Y zb: two n-by-k products (x and A x), not four.
+  void weights(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, std::optional<bool> per_s) {
     const int k = columns_;
-    ws_.delta.resize(k);
+    ws_.z.resize(k);
     for (int c = 0; c < k; ++c) {
       const int j = ws_.column_row[c];
-      ws_.delta[c] = rhs(j, per_s) - base_rhs(j, per_s);
+      const double delta = per_s ? rhs(j, *per_s) - base_rhs(j, *per_s) : 0.0;
+      ws_.z[c] = delta - (row_product(j, g, ag) - base_product(j, g, ag));
     }
-    correct(per_s ? ws_.gd : ws_.ga, per_s ? ws_.agd : ws_.aga, &ws_.delta, x, ax);
+    ws_.zb.noalias() = ws_.inverse.topLeftCorner(k, k) * ws_.z;
   }
 
-  // x = E^-1 (r + sum_c delta_c e_{j_c}) from g = M_b^-1 r, ag = A g. With U^T the rows by which
-  // E differs from M_b and C = I + U^T Y, Woodbury gives x = g + Y delta - Y C^-1 U^T (g + Y delta),
-  // and U^T Y delta = (C - I) delta, so x = g + Y C^-1 (delta - U^T g): two n-by-k products, not four.
-  void correct(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, const Eigen::VectorXd* delta, Eigen::VectorXd& x,
-               Eigen::VectorXd& ax) {
+  // x = g + Y zb, ax = ag + AY zb.
+  void combine(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) const {
     const int k = columns_;
     x = g;
     ax = ag;
     if (k == 0) return;
-    ws_.z.resize(k);
-    for (int c = 0; c < k; ++c) {
-      const int j = ws_.column_row[c];
-      ws_.z[c] = (delta ? (*delta)[c] : 0.0) - (row_product(j, g, ag) - base_product(j, g, ag));
-    }
-    ws_.zb.noalias() = ws_.inverse.topLeftCorner(k, k) * ws_.z;
     x.noalias() += ws_.y.leftCols(k) * ws_.zb;
     ax.noalias() += ws_.ay.leftCols(k) * ws_.zb;
+  }
+
+  // x = E^-1 r from g = M_b^-1 r and ag = A g; ax = A x.
+  void woodbury(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    weights(g, ag, std::nullopt);
+    combine(g, ag, x, ax);
+  }
+
+  // The piece's point for ra (lambda at s = 0 of the piece's equations); ax = A x.
+  void solve_point(Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    weights(ws_.ga, ws_.aga, false);
+    combine(ws_.ga, ws_.aga, x, ax);
+  }
+
+  // The piece's direction, dl = d lambda / ds and dw = d w / ds, from one product: the solution
+  // for rd is needed on free rows only and its A-image on clamped rows only (ws.mixed). The rest
+  // follows from the piece's equations: dw = 0 on free rows (A dl = -d there), dl = 0 on bound and
+  // closed rows, dl_t = +-(mu dl_n + e_t) on sliding ones.
+  void direction() {
+    const int k = columns_;
+    for (int j = 0; j < n_; ++j) {
+      const bool free = eq(j) == Eq::Free;
+      if (ws_.mixed_free[j] == free) continue;
+      ws_.mixed_free[j] = free;
+      ws_.mixed.row(j).head(k) = free ? ws_.y.row(j).head(k) : ws_.ay.row(j).head(k);
+    }
+    weights(ws_.gd, ws_.agd, true);
+    Eigen::VectorXd& m = ws_.t;
+    for (int j = 0; j < n_; ++j) m[j] = ws_.mixed_free[j] ? ws_.gd[j] : ws_.agd[j];
+    if (k > 0) m.noalias() += ws_.mixed.leftCols(k) * ws_.zb;
+    for (int j = 0; j < n_; ++j) {
+      const bool free = eq(j) == Eq::Free;
+      ws_.dl[j] = free ? m[j] : 0.0;
+      ws_.dw[j] = free ? 0.0 : m[j] + ws_.d[j];
+    }
+    for (int j = 0; j < n_; ++j)
+      if (eq(j) == Eq::Slide) ws_.dl[j] = sign(j) * (mu_[j] * ws_.dl[normal_of_[j]] + ws_.e[j]);
   }
 
   void advance(double ds) {

@@ -143,9 +143,13 @@ struct CoupledWorkspace {
   std::vector<int> column_of, column_row;     // Woodbury columns: row -> column, column -> row
   std::vector<int> friction_start, friction_rows;  // friction rows of each row (CSR)
   std::unordered_set<std::uint64_t> visited;  // hashes of the visited (sets, direction) pairs
-  Eigen::VectorXd start, d, e, lambda, w, dl, dw, ga, aga, gd, agd, g, ag, r, t, at, z, delta, lo, hi;
+  Eigen::VectorXd start, d, e, lambda, w, dl, dw, ga, aga, gd, agd, g, ag, r, t, at, z, lo, hi;
   Eigen::VectorXd v, vb, bc, zb;              // capacitance updates
   Eigen::MatrixXd y, ay, capacitance, inverse;  // M_b^-1 e_j, A M_b^-1 e_j per column; C = I + U^T Y, C^-1
+  // Row j of y on rows with mixed_free[j], of ay elsewhere: a piece's direction needs d lambda on
+  // its free rows and d w on the others only, so one product with this replaces two.
+  Eigen::MatrixXd mixed;
+  std::vector<char> mixed_free;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   BlcpWorkspace blcp;                         // fixed-bounds solves of restarts
   int factorizations = 0;  // factorisations over all calls (reused factors not counted)
