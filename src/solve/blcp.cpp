@@ -293,9 +293,11 @@ constexpr int kMinEvents = 100;
 constexpr int kRowsPerEvent = 2;
 // Two events closer than this (relative) are a tie; a normal row wins over its friction rows.
 constexpr double kTie = 1e-9;
-// Updates of the capacitance's explicit inverse between recomputations, and the smallest pivot an
-// update may divide by (C is I plus terms of order 1 on well-scaled pieces).
+// Updates of the capacitance's explicit inverse between recomputations (at least kRefresh, and one
+// per kColumnsPerRefresh columns: a recomputation costs O(k^3), an update O(k^2)), and the
+// smallest pivot an update may divide by (C is I plus terms of order 1 on well-scaled pieces).
 constexpr int kRefresh = 32;
+constexpr int kColumnsPerRefresh = 4;
 constexpr double kSmallPivot = 1e-8;
 // Warm paths restarted from an end point that missed by round-off.
 constexpr int kWarmRestarts = 3;
@@ -716,7 +718,7 @@ class CoupledPath {
   // Woodbury solves apply its inverse, kept explicitly: a pivot changes a row of C (a row whose
   // equation changed) or borders it (a new column), both O(k^2) updates (Sherman-Morrison, the
   // bordered inverse), where refactoring C would be O(k^3) per pivot. The inverse is recomputed
-  // from C by LU every kRefresh updates and whenever an update divides by a small pivot.
+  // from C by LU every so many updates (kRefresh) and whenever an update divides by a small pivot.
   double capacitance_entry(int r, int c) const {
     const int j = ws_.column_row[r];
     return (r == c) + row_product(j, ws_.y.col(c), ws_.ay.col(c)) - base_product(j, ws_.y.col(c), ws_.ay.col(c));
@@ -929,7 +931,7 @@ class CoupledPath {
       for (int r = 0; r < n_; ++r) ws_.base_free[r] = eq(r) == Eq::Free;
       return set_base();
     }
-    return (stale_ || updates_ >= kRefresh) ? refresh() : true;
+    return (stale_ || updates_ >= std::max(kRefresh, columns_ / kColumnsPerRefresh)) ? refresh() : true;
   }
   // Row j's equation changed: its row of C changes, or it needs a column.
   bool changed(int j) {
