@@ -567,8 +567,8 @@ class CoupledPath {
 
   // Whether the cold path can still reach s = 0 within the pivot budget: it starts with every
   // bounded row other than friction clamped, so each one the fixed-bounds solution `state` has free
-  // must pivot at least once (on 100-200-rock piles the warm paths leave less than that, and the
-  // cold path, entering at s ~ 10-200, always ran out: 9 of 9 times).
+  // must pivot at least once. (On forming 100- and 200-rock piles the cold path, entering at
+  // s ~ 10-200, ran out of budget all 9 times it was tried.)
   bool cold_path_fits(const std::vector<RowState>& state) const {
     int pivots = 0;
     for (int j = 0; j < n_; ++j)
