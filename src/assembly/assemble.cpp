@@ -27,18 +27,6 @@ Vec3 perpendicular(const Vec3& n) {
   return n.cross(helper).normalized();
 }
 
-// (J M^-1 J^T)_jj of a row, the scale of its regularisation floor.
-double row_diagonal(const Rows& rows, int r, const Bodies& bodies) {
-  double d = 0;
-  for (int s = 0; s < 2; ++s) {
-    const int k = rows.body[r][s];
-    if (k < 0) continue;
-    const Vec6& j = rows.jac[r][s];
-    d += bodies.inv_mass[k] * j.head<3>().squaredNorm() + j.tail<3>().dot(bodies.inv_inertia[k] * j.tail<3>());
-  }
-  return d;
-}
-
 double row_velocity(const Rows& rows, int r, const Bodies& bodies) {
   double v = 0;
   for (int s = 0; s < 2; ++s) {
@@ -54,6 +42,18 @@ Vec3 point_velocity(const std::vector<Vec3>& v, const std::vector<Vec3>& w, int 
 }
 
 }  // namespace
+
+// (J M^-1 J^T)_jj of a row, the scale of its regularisation floor.
+double row_diagonal(const Rows& rows, int r, const Bodies& bodies) {
+  double d = 0;
+  for (int s = 0; s < 2; ++s) {
+    const int k = rows.body[r][s];
+    if (k < 0) continue;
+    const Vec6& j = rows.jac[r][s];
+    d += bodies.inv_mass[k] * j.head<3>().squaredNorm() + j.tail<3>().dot(bodies.inv_inertia[k] * j.tail<3>());
+  }
+  return d;
+}
 
 std::vector<JointFrame> make_joint_frames(const SceneDef& scene, const Bodies& bodies) {
   std::vector<JointFrame> frames;

@@ -57,6 +57,9 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
 // (DESIGN.md §2) and sigma = the joint's compliance; assemble_rows scales both by the step.
 void append_joint_rows(const std::vector<JointFrame>& joints, const Bodies& bodies, Rows& rows);
 
+// (J M^-1 J^T)_jj of a row, the scale of its regularisation floor.
+double row_diagonal(const Rows& rows, int r, const Bodies& bodies);
+
 // Row keys: contact id c gives 4c + {0 normal, 1, 2 friction}; joint k's rows have the top bit set.
 inline std::uint64_t contact_row_key(std::uint64_t contact_id, int k) { return contact_id * 4 + k; }
 inline std::uint64_t joint_row_key(int joint, int k) {

@@ -2,74 +2,88 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include "solve/solve.hpp"
 
 namespace rbpart {
 
-double JointProjection::project(const std::vector<JointFrame>& joints, Bodies& bodies, double sigma_floor,
-                                double tolerance, int max_iterations) {
+namespace {
+
+// J_r . (dx, dtheta) over the row's bodies, for per-body moves `move`.
+double row_dot(const Rows& rows, int r, const std::vector<Vec6>& move) {
+  double d = 0;
+  for (int s = 0; s < 2; ++s)
+    if (rows.body[r][s] >= 0) d += rows.jac[r][s].dot(move[rows.body[r][s]]);
+  return d;
+}
+
+}  // namespace
+
+double JointProjection::project(const std::vector<JointFrame>& joints, const std::vector<Contact>& contacts,
+                                const Rows& step_rows, Bodies& bodies, double h, double sigma_floor,
+                                double tolerance, int max_iterations, const SolverParams& solver) {
+  jointed_.assign(bodies.size(), 0);
+  for (const JointFrame& f : joints)
+    for (int k : f.body)
+      if (k >= 0) jointed_[k] = 1;
+  // Contacts of jointed bodies, with their gaps after the step: d + h J v (to first order).
+  contact_row_.clear();
+  gap_.clear();
+  std::vector<Vec6> velocity(bodies.size());
+  for (int b = 0; b < bodies.size(); ++b) velocity[b] << bodies.v[b], bodies.w[b];
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const int r = static_cast<int>(3 * c);
+    const Contact& k = contacts[c];
+    if (step_rows.key[r] != contact_row_key(k.id, 0)) throw std::logic_error("joint projection: rows out of contact order");
+    if (!jointed_[k.body_a] && !(k.body_b >= 0 && jointed_[k.body_b])) continue;
+    contact_row_.push_back(r);
+    gap_.push_back(k.distance + h * row_dot(step_rows, r, velocity));
+  }
+
+  std::vector<Vec6> move(bodies.size(), Vec6::Zero());  // this step's projection so far
   double worst = 0;
   for (int iteration = 0; iteration <= max_iterations; ++iteration) {
-    rows_.clear();
-    append_joint_rows(joints, bodies, rows_);
+    joint_rows_.clear();
+    append_joint_rows(joints, bodies, joint_rows_);
     // Compliant joints are meant to stretch: only rigid rows are projected.
-    rigid_.clear();
+    rows_.clear();
     worst = 0;
-    for (std::size_t r = 0; r < rows_.size(); ++r)
-      if (rows_.sigma[r] == 0) {
-        rigid_.push_back(static_cast<int>(r));
-        worst = std::max(worst, std::abs(rows_.q[r]));
-      }
+    for (std::size_t j = 0; j < joint_rows_.size(); ++j) {
+      if (joint_rows_.sigma[j] != 0) continue;
+      worst = std::max(worst, std::abs(joint_rows_.q[j]));
+      const int r = rows_.add(RowKind::Joint, joint_rows_.body[j][0], joint_rows_.body[j][1], joint_rows_.key[j]);
+      rows_.jac[r] = joint_rows_.jac[j];
+      rows_.q[r] = joint_rows_.q[j];
+    }
     if (worst <= tolerance || iteration == max_iterations) break;
+    for (std::size_t c = 0; c < contact_row_.size(); ++c) {
+      const int from = contact_row_[c];
+      const int r = rows_.add(RowKind::Normal, step_rows.body[from][0], step_rows.body[from][1], step_rows.key[from]);
+      rows_.jac[r] = step_rows.jac[from];
+      rows_.q[r] = std::max(0.0, gap_[c] + row_dot(step_rows, from, move));
+    }
+    for (std::size_t r = 0; r < rows_.size(); ++r)
+      rows_.sigma[r] = sigma_floor * row_diagonal(rows_, static_cast<int>(r), bodies);
 
-    // CSR of the rigid rows on each body, then A = J M^-1 J^T (+ floor) by pairs of rows per body.
-    const int n = static_cast<int>(rigid_.size());
-    body_row_offset_.assign(bodies.size() + 1, 0);
-    for (int i = 0; i < n; ++i)
-      for (int s = 0; s < 2; ++s)
-        if (rows_.body[rigid_[i]][s] >= 0) ++body_row_offset_[rows_.body[rigid_[i]][s] + 1];
-    for (int b = 0; b < bodies.size(); ++b) body_row_offset_[b + 1] += body_row_offset_[b];
-    body_rows_.resize(body_row_offset_.back());
-    std::vector<int> fill(body_row_offset_.begin(), body_row_offset_.end() - 1);
-    for (int i = 0; i < n; ++i)
-      for (int s = 0; s < 2; ++s)
-        if (rows_.body[rigid_[i]][s] >= 0) body_rows_[fill[rows_.body[rigid_[i]][s]]++] = 2 * i + s;
-
-    auto m_inv_j = [&](int i, int s) {
-      const int k = rows_.body[rigid_[i]][s];
-      const Vec6& j = rows_.jac[rigid_[i]][s];
-      Vec6 m;
-      m << bodies.inv_mass[k] * j.head<3>(), bodies.inv_inertia[k] * j.tail<3>();
-      return m;
-    };
-    triplets_.clear();
-    for (int b = 0; b < bodies.size(); ++b)
-      for (int e = body_row_offset_[b]; e < body_row_offset_[b + 1]; ++e) {
-        const int i = body_rows_[e] >> 1, si = body_rows_[e] & 1;
-        const Vec6 mi = m_inv_j(i, si);
-        for (int f = body_row_offset_[b]; f < body_row_offset_[b + 1]; ++f) {
-          const int j = body_rows_[f] >> 1, sj = body_rows_[f] & 1;
-          if (j >= i) triplets_.emplace_back(j, i, rows_.jac[rigid_[j]][sj].dot(mi));
-        }
-      }
-    a_.resize(n, n);
-    a_.setFromTriplets(triplets_.begin(), triplets_.end());
-    for (int i = 0; i < n; ++i) a_.coeffRef(i, i) *= 1 + sigma_floor;
-    ldlt_.compute(a_);  // lower triangle is read (SimplicialLDLT's default)
-    if (ldlt_.info() != Eigen::Success) break;
-    phi_.resize(n);
-    for (int i = 0; i < n; ++i) phi_[i] = -rows_.q[rigid_[i]];
-    delta_ = ldlt_.solve(phi_);
+    build_islands(rows_, bodies.size(), islands_);
+    solve_direct(rows_, bodies, islands_, solver);
 
     // Move every body by M^-1 J^T delta: translation, and rotation by the small angle it gives.
-    for (int b = 0; b < bodies.size(); ++b) {
-      Vec6 du = Vec6::Zero();
-      for (int e = body_row_offset_[b]; e < body_row_offset_[b + 1]; ++e) {
-        const int i = body_rows_[e] >> 1, si = body_rows_[e] & 1;
-        du += delta_[i] * m_inv_j(i, si);
+    std::vector<Vec6> du(bodies.size(), Vec6::Zero());
+    for (std::size_t r = 0; r < rows_.size(); ++r)
+      for (int s = 0; s < 2; ++s) {
+        const int k = rows_.body[r][s];
+        if (k < 0) continue;
+        const Vec6& j = rows_.jac[r][s];
+        du[k].head<3>() += rows_.lambda[r] * bodies.inv_mass[k] * j.head<3>();
+        du[k].tail<3>() += rows_.lambda[r] * (bodies.inv_inertia[k] * j.tail<3>());
       }
-      if (du.isZero()) continue;
-      bodies.x[b] += du.head<3>();
-      const Vec3 dtheta = du.tail<3>();
+    for (int b = 0; b < bodies.size(); ++b) {
+      if (du[b].isZero()) continue;
+      move[b] += du[b];
+      bodies.x[b] += du[b].head<3>();
+      const Vec3 dtheta = du[b].tail<3>();
       bodies.q[b].coeffs() += 0.5 * (Quat(0, dtheta.x(), dtheta.y(), dtheta.z()) * bodies.q[b]).coeffs();
       bodies.q[b].normalize();
     }

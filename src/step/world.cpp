@@ -174,8 +174,8 @@ struct World::Impl {
     integrate_positions(bodies, scene.dt);
     if (!joints.empty()) {
       update_world_inertia(bodies);
-      joint_projection.project(joints, bodies, step_params.sigma_floor, step_params.joint_tolerance,
-                               step_params.joint_projection_iterations);
+      joint_projection.project(joints, contacts, rows, bodies, scene.dt, step_params.sigma_floor,
+                               step_params.joint_tolerance, step_params.joint_projection_iterations, solver_params);
     }
     update_geometric_stiffness(rows, bodies, scene.dt);
     warm.store(rows);
