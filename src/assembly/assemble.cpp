@@ -55,6 +55,15 @@ double row_diagonal(const Rows& rows, int r, const Bodies& bodies) {
   return d;
 }
 
+int add_contact_normal_row(const Contact& c, const Bodies& bodies, Rows& rows) {
+  const int a = c.body_a;
+  const int b = c.body_b >= 0 && !bodies.is_static[c.body_b] ? c.body_b : -1;
+  const int r = rows.add(RowKind::Normal, a, b, contact_row_key(c.id, 0));
+  rows.jac[r][0] = point_jacobian(c.normal, c.point - bodies.x[a]);
+  if (b >= 0) rows.jac[r][1] = -point_jacobian(c.normal, c.point - bodies.x[b]);
+  return r;
+}
+
 std::vector<JointFrame> make_joint_frames(const SceneDef& scene, const Bodies& bodies) {
   std::vector<JointFrame> frames;
   frames.reserve(scene.joints.size());
@@ -183,9 +192,7 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
     const Vec3 ra = c.point - bodies.x[a];
     const Vec3 rb = b >= 0 ? Vec3(c.point - bodies.x[b]) : Vec3::Zero();
 
-    const int n_row = rows.add(RowKind::Normal, a, b, contact_row_key(c.id, 0));
-    rows.jac[n_row][0] = point_jacobian(c.normal, ra);
-    if (b >= 0) rows.jac[n_row][1] = -point_jacobian(c.normal, rb);
+    const int n_row = add_contact_normal_row(c, bodies, rows);
     // Penetration beyond the slop is pushed out at rate erp/h; a gap may close within the step
     // (speculative contact) but is never pulled shut.
     const double bias = c.distance < 0 ? params.erp * inv_h * std::min(0.0, c.distance + params.slop)

@@ -57,6 +57,10 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
 // (DESIGN.md §2) and sigma = the joint's compliance; assemble_rows scales both by the step.
 void append_joint_rows(const std::vector<JointFrame>& joints, const Bodies& bodies, Rows& rows);
 
+// Appends a contact's normal row (lambda >= 0 pushes body_a along the normal, body_b against it,
+// a static body_b being -1) with q = 0; returns its index.
+int add_contact_normal_row(const Contact& c, const Bodies& bodies, Rows& rows);
+
 // (J M^-1 J^T)_jj of a row, the scale of its regularisation floor.
 double row_diagonal(const Rows& rows, int r, const Bodies& bodies);
 

@@ -29,6 +29,8 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"contact_margin", real(step.contact_margin)},
       {"joint_projection_iterations", integer(step.joint_projection_iterations)},
       {"joint_tolerance", real(step.joint_tolerance)},
+      {"projection_depth", real(step.projection_depth)},
+      {"projection_turn", real(step.projection_turn)},
       {"solver", solver_name(solver.kind)},
       {"dense_max_rows", integer(solver.dense_max_rows)},
       {"max_pivot_iterations", integer(solver.max_pivot_iterations)},

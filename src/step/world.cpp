@@ -17,7 +17,7 @@
 #include "graph/constraint_graph.hpp"
 #include "graph/islands.hpp"
 #include "integrate/integrate.hpp"
-#include "integrate/joint_projection.hpp"
+#include "integrate/position_projection.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
@@ -35,12 +35,16 @@ struct World::Impl {
   Bodies bodies;
   std::vector<JointFrame> joints;
   Collider collider;
+  // A second collider for the position projection: the first keeps its pairs' persistent state
+  // (contact ids, last normals) from one step's collision to the next.
+  Collider projection_collider;
   // Per-step scratch, reused across steps.
   std::vector<Vec3> frame_position, sliding_v, sliding_w;
-  std::vector<Contact> contacts;
+  std::vector<Contact> contacts, projection_contacts;
+  std::vector<Vec3> still;  // zero velocities: the projection's collision needs no sweep
   Rows rows;
   WarmStart warm;
-  JointProjection joint_projection;
+  PositionProjection position_projection;
   Islands islands;
   ConstraintGraph graph_;
   Partition partition_;
@@ -50,7 +54,7 @@ struct World::Impl {
 
   Impl(SceneDef s, StepParams sp, SolverParams so, PartitionParams pp)
       : scene(std::move(s)), step_params(sp), solver_params(so), partition_params(pp),
-        collider(scene, sp.contact_margin) {
+        collider(scene, sp.contact_margin), projection_collider(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
     if (solver_params.threads > 0)
@@ -172,13 +176,23 @@ struct World::Impl {
   void integrate() {
     apply_impulses(rows, bodies);
     integrate_positions(bodies, scene.dt);
-    if (!joints.empty()) {
-      update_world_inertia(bodies);
-      joint_projection.project(joints, contacts, rows, bodies, scene.dt, step_params.sigma_floor,
-                               step_params.joint_tolerance, step_params.joint_projection_iterations, solver_params);
-    }
+    project_positions();
     update_geometric_stiffness(rows, bodies, scene.dt);
     warm.store(rows);
+  }
+
+  // Position post-stabilisation (integrate/position_projection.hpp), when there are joints to close
+  // or some body turned far enough in the step for its contacts' linearisation to fail.
+  void project_positions() {
+    double turn = 0;
+    for (int i = 0; i < bodies.size(); ++i) turn = std::max(turn, scene.dt * bodies.w[i].norm());
+    if (step_params.joint_projection_iterations <= 0 || (joints.empty() && turn <= step_params.projection_turn))
+      return;
+    update_world_inertia(bodies);
+    for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
+    still.assign(bodies.size(), Vec3::Zero());
+    projection_collider.collide(frame_position, bodies.q, still, still, scene.dt, projection_contacts);
+    position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
   }
 
   double kinetic_energy() const {

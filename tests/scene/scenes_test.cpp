@@ -3,12 +3,10 @@
 // constraint graph has the character the partitioning study needs (issue #3). The full-length runs
 // (500 steps, 200 and 600 rocks) are measured by `rbpart simulate`, not here, to keep CI short.
 //
-// Penetration: every contact within 1 cm at every step (issue #3) for the Chain Drop, the Log Tower
-// and rocks dropped from two grid layers (up to 0.7 m above the floor). One known gap is bounded
-// instead, with the last `late` steps within 1 cm: a pile needs a narrow bin, so tall columns; rocks
-// strike at up to 8 m/s, and one that an impact sets turning or sliding within the step can still
-// bring a vertex 1-2 cm into a neighbour that its contacts at the start of the step (collide.hpp)
-// did not guard: within 2.5 cm.
+// Penetration: every contact within 1 cm at every step (issue #3). Rocks that strike at up to 8 m/s
+// and spin at 30 rad/s (half a radian per step) would bring a corner that their contacts at the
+// start of the step did not guard 1-2 cm into a neighbour; the position projection
+// (integrate/position_projection.hpp) pushes such contacts back to 2 mm.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 
@@ -35,7 +33,6 @@ double mechanical_energy(const World& w, double kinetic) {
 
 struct RunSummary {
   double max_penetration = 0;  // m, over all steps
-  double late_penetration = 0;  // m, over the last `late` steps
   double max_joint_gap = 0;    // m, over all steps
   double max_energy_gain = 0;  // J, max over steps of E(t) - E(0)
   double energy_scale = 0;     // J, total weight times the height range of the scene's bodies
@@ -66,21 +63,17 @@ RunSummary run(World& w, int steps, int late = 0) {
     r.max_joint_gap = std::max(r.max_joint_gap, gaps.max_gap(w));
     r.max_energy_gain = std::max(r.max_energy_gain, mechanical_energy(w, s.kinetic_energy) - e0 - initial_kinetic);
     r.peak_kinetic = std::max(r.peak_kinetic, s.kinetic_energy);
-    if (k >= steps - late) {
-      r.late_kinetic = std::max(r.late_kinetic, s.kinetic_energy);
-      r.late_penetration = std::max(r.late_penetration, s.max_penetration);
-    }
+    if (k >= steps - late) r.late_kinetic = std::max(r.late_kinetic, s.kinetic_energy);
     for (int i = 0; i < B.size(); ++i) r.max_distance = std::max(r.max_distance, B.x[i].norm());
   }
   return r;
 }
 
-// Checks shared by every scene: shallow contacts (within `deepest` at every step, 1 cm at the end),
+// Checks shared by every scene: shallow contacts (within 1 cm at every step),
 // closed joints, no energy created beyond 1 % of the scene's potential energy scale (Baumgarte
 // correction may add a little), bodies near the origin.
-void expect_sound(const RunSummary& r, double world_radius, double deepest = 0.01) {
-  EXPECT_LE(r.late_penetration, 0.01);
-  EXPECT_LE(r.max_penetration, deepest);
+void expect_sound(const RunSummary& r, double world_radius) {
+  EXPECT_LE(r.max_penetration, 0.01);
   ::testing::Test::RecordProperty("max_penetration_mm", std::to_string(1e3 * r.max_penetration));
   EXPECT_LE(r.max_joint_gap, 1e-3);
   EXPECT_LE(r.max_energy_gain, 0.01 * r.energy_scale);
@@ -134,7 +127,7 @@ TEST(RockPile, DroppedLowEveryContactStaysWithinOneCentimetre) {
 TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
   World w(make_builtin_scene("rock_pile", {{"rocks", "24"}, {"layers", "6"}}));
   const RunSummary r = run(w, 300, 50);
-  expect_sound(r, 10.0, 0.025);
+  expect_sound(r, 10.0);
   EXPECT_LT(r.late_kinetic, 0.01 * r.peak_kinetic);
   // A pile: rocks rest on rocks, so the graph has many edges and bodies of degree >= 3.
   const ConstraintGraph& g = w.graph();

@@ -1,14 +1,15 @@
-// The joints' position projection (integrate/joint_projection.hpp) against the geometry it must
+// The position projection (integrate/position_projection.hpp) against the geometry it must
 // respect: a light ball resting on the ground, ball-jointed to a heavy ball whose anchor sits 1 cm
 // low. In the mass metric alone the light ball would take almost all of the correction, its centre
-// 2.8 mm down into the ground; with its contact as a one-sided row it may only turn.
+// 2.8 mm down into the ground; with its contact as a one-sided row it may only turn. And a ball
+// sunk into the ground is pushed back to the allowed depth, and no further.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
-#include "integrate/joint_projection.hpp"
+#include "integrate/position_projection.hpp"
 #include "scene/bodies.hpp"
 
 namespace rbpart {
@@ -37,12 +38,11 @@ struct Pair {
   Bodies bodies;
   std::vector<JointFrame> joints;
   std::vector<Contact> contacts;
-  Rows rows;
 };
 
 // Body 0 the ground, 1 the light ball on it, 2 the heavy ball beside it; the joint's anchors are the
-// balls' facing points, 1 cm apart vertically. The light ball touches the ground (`distance`).
-Pair make_setup(double light, double heavy, double distance) {
+// balls' facing points, 1 cm apart vertically. The light ball is `distance` above the ground.
+Pair make_pair(double light, double heavy, double distance) {
   Pair s;
   add_body(s.bodies, true, 0, Vec3(0, 0, -1));
   add_body(s.bodies, false, light, Vec3(0, 0, kRadius + distance));
@@ -61,9 +61,6 @@ Pair make_setup(double light, double heavy, double distance) {
   c.distance = distance;
   c.id = 7;
   s.contacts.push_back(c);
-  const std::vector<Vec3> zero(3, Vec3::Zero());
-  WarmStart warm;
-  assemble_rows(s.contacts, s.joints, s.bodies, zero, zero, StepParams{}, 1.0 / 60, warm, s.rows);
   return s;
 }
 
@@ -73,41 +70,57 @@ double joint_error(const Pair& s) {
   return (a - b).norm();
 }
 
-double project(Pair& s) {
-  JointProjection projection;
-  return projection.project(s.joints, s.contacts, s.rows, s.bodies, 1.0 / 60, 1e-6, 1e-9, 8, SolverParams{});
+double project(Pair& s, double depth = 0) {
+  PositionProjection projection;
+  StepParams params;
+  params.joint_tolerance = 1e-9;
+  params.projection_depth = depth;
+  return projection.project(s.joints, s.contacts, s.bodies, params, SolverParams{});
 }
 
 // Tolerance on the contact: the rows' regularisation floor (1e-6 of A_jj) lets it yield by about
 // that fraction of the correction.
 constexpr double kYield = 1e-7;
 
-TEST(JointProjection, ClosesTheJointWithoutPushingAContactDeeper) {
-  Pair s = make_setup(1, 100, 0);
+TEST(PositionProjection, ClosesTheJointWithoutPushingAContactDeeper) {
+  Pair s = make_pair(1, 100, 0);
   EXPECT_LE(project(s), 1e-9);
   EXPECT_LE(joint_error(s), 1e-9);
   EXPECT_GE(s.bodies.x[1].z(), kRadius - kYield);
 }
 
-TEST(JointProjection, AGapMayCloseButNotPastContact) {
+TEST(PositionProjection, AGapMayCloseButNotPastContact) {
   // 1 mm of gap, less than the 2.8 mm the free projection would drop the light ball: it closes.
-  Pair s = make_setup(1, 100, 0.001);
+  Pair s = make_pair(1, 100, 0.001);
   EXPECT_LE(project(s), 1e-9);
   EXPECT_LE(joint_error(s), 1e-9);
   EXPECT_NEAR(s.bodies.x[1].z(), kRadius, kYield);
 }
 
-TEST(JointProjection, WithoutContactTheMassMetricDecides) {
+TEST(PositionProjection, WithoutContactTheMassMetricDecides) {
   // 5 cm of gap: the contact stays open, and one impulse delta moves the balls' centres by
   // delta / m in opposite directions (x += M^-1 J^T delta): the drop and the rise are as 100 : 1,
   // and the light ball's centre drops delta = 1 cm / (1/m + r^2/I + 1/M + r^2/I_M) = 2.83 mm, to
   // first order (the balls turn by 0.07 rad, which bends the Gauss-Newton path by about 1 %).
-  Pair s = make_setup(1, 100, 0.05);
+  Pair s = make_pair(1, 100, 0.05);
   const double light_z = s.bodies.x[1].z(), heavy_z = s.bodies.x[2].z();
   EXPECT_LE(project(s), 1e-9);
   const double light_drop = light_z - s.bodies.x[1].z(), heavy_rise = s.bodies.x[2].z() - heavy_z;
   EXPECT_NEAR(light_drop, 100 * heavy_rise, 1e-8);
   EXPECT_NEAR(light_drop, 0.01 / 3.535, 3e-5);
+}
+
+TEST(PositionProjection, AContactDeeperThanTheDepthIsPushedBackToIt) {
+  // The light ball alone, 2 cm into the ground: it rises to 5 mm deep, not out of the ground.
+  Pair s = make_pair(1, 100, -0.02);
+  s.joints.clear();
+  project(s, 0.005);
+  EXPECT_NEAR(s.bodies.x[1].z(), kRadius - 0.005, kYield);
+  // Within the depth nothing moves.
+  Pair t = make_pair(1, 100, -0.004);
+  t.joints.clear();
+  project(t, 0.005);
+  EXPECT_EQ(t.bodies.x[1].z(), kRadius - 0.004);
 }
 
 }  // namespace

@@ -1,8 +1,7 @@
-#include "integrate/joint_projection.hpp"
+#include "integrate/position_projection.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "solve/solve.hpp"
 
@@ -20,30 +19,15 @@ double row_dot(const Rows& rows, int r, const std::vector<Vec6>& move) {
 
 }  // namespace
 
-double JointProjection::project(const std::vector<JointFrame>& joints, const std::vector<Contact>& contacts,
-                                const Rows& step_rows, Bodies& bodies, double h, double sigma_floor,
-                                double tolerance, int max_iterations, const SolverParams& solver) {
-  jointed_.assign(bodies.size(), 0);
-  for (const JointFrame& f : joints)
-    for (int k : f.body)
-      if (k >= 0) jointed_[k] = 1;
-  // Contacts of jointed bodies, with their gaps after the step: d + h J v (to first order).
-  contact_row_.clear();
-  gap_.clear();
-  std::vector<Vec6> velocity(bodies.size());
-  for (int b = 0; b < bodies.size(); ++b) velocity[b] << bodies.v[b], bodies.w[b];
-  for (std::size_t c = 0; c < contacts.size(); ++c) {
-    const int r = static_cast<int>(3 * c);
-    const Contact& k = contacts[c];
-    if (step_rows.key[r] != contact_row_key(k.id, 0)) throw std::logic_error("joint projection: rows out of contact order");
-    if (!jointed_[k.body_a] && !(k.body_b >= 0 && jointed_[k.body_b])) continue;
-    contact_row_.push_back(r);
-    gap_.push_back(k.distance + h * row_dot(step_rows, r, velocity));
-  }
+double PositionProjection::project(const std::vector<JointFrame>& joints, const std::vector<Contact>& contacts,
+                                   Bodies& bodies, const StepParams& params, const SolverParams& solver) {
+  // Contact rows at the poses on entry; their Jacobians are kept through the Gauss-Newton steps.
+  contact_rows_.clear();
+  for (const Contact& c : contacts) add_contact_normal_row(c, bodies, contact_rows_);
 
-  std::vector<Vec6> move(bodies.size(), Vec6::Zero());  // this step's projection so far
+  std::vector<Vec6> move(bodies.size(), Vec6::Zero());  // the projection so far
   double worst = 0;
-  for (int iteration = 0; iteration <= max_iterations; ++iteration) {
+  for (int iteration = 0; iteration <= params.joint_projection_iterations; ++iteration) {
     joint_rows_.clear();
     append_joint_rows(joints, bodies, joint_rows_);
     // Compliant joints are meant to stretch: only rigid rows are projected.
@@ -56,15 +40,20 @@ double JointProjection::project(const std::vector<JointFrame>& joints, const std
       rows_.jac[r] = joint_rows_.jac[j];
       rows_.q[r] = joint_rows_.q[j];
     }
-    if (worst <= tolerance || iteration == max_iterations) break;
-    for (std::size_t c = 0; c < contact_row_.size(); ++c) {
-      const int from = contact_row_[c];
-      const int r = rows_.add(RowKind::Normal, step_rows.body[from][0], step_rows.body[from][1], step_rows.key[from]);
-      rows_.jac[r] = step_rows.jac[from];
-      rows_.q[r] = std::max(0.0, gap_[c] + row_dot(step_rows, from, move));
+    bool too_deep = false;
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      const int from = static_cast<int>(c);
+      const double d = contacts[c].distance + row_dot(contact_rows_, from, move);
+      const double slack = std::max(d, 0.0) + std::min(0.0, d + params.projection_depth);
+      too_deep = too_deep || slack < -params.joint_tolerance;
+      const int r = rows_.add(RowKind::Normal, contact_rows_.body[from][0], contact_rows_.body[from][1],
+                              contact_rows_.key[from]);
+      rows_.jac[r] = contact_rows_.jac[from];
+      rows_.q[r] = slack;
     }
+    if ((worst <= params.joint_tolerance && !too_deep) || iteration == params.joint_projection_iterations) break;
     for (std::size_t r = 0; r < rows_.size(); ++r)
-      rows_.sigma[r] = sigma_floor * row_diagonal(rows_, static_cast<int>(r), bodies);
+      rows_.sigma[r] = params.sigma_floor * row_diagonal(rows_, static_cast<int>(r), bodies);
 
     build_islands(rows_, bodies.size(), islands_);
     solve_direct(rows_, bodies, islands_, solver);
@@ -74,7 +63,7 @@ double JointProjection::project(const std::vector<JointFrame>& joints, const std
     for (std::size_t r = 0; r < rows_.size(); ++r)
       for (int s = 0; s < 2; ++s) {
         const int k = rows_.body[r][s];
-        if (k < 0) continue;
+        if (k < 0 || rows_.lambda[r] == 0) continue;
         const Vec6& j = rows_.jac[r][s];
         du[k].head<3>() += rows_.lambda[r] * bodies.inv_mass[k] * j.head<3>();
         du[k].tail<3>() += rows_.lambda[r] * (bodies.inv_inertia[k] * j.tail<3>());
