@@ -186,26 +186,46 @@ struct FrictionPassResult {
   bool settled = false;  // the coupled BLCP is solved (coupled step or settled normal impulses)
 };
 
-// Relative change of the normal impulses below which a pass reproduced its own bounds up to
-// round-off: the pass solved the coupled BLCP. Redundant contacts leave a null wrench that only the
-// sigma floor (1e-6 of the diagonal) resolves, so round-off moves the normal impulses by about
-// eps * 1e6 ~ 2e-10 of their size (1.1e-10 seen on a box resting on four corners). Its residual is
-// measured, not assumed.
+// Mismatch, relative to max |lambda_n|, below which a pass's solution solves the coupled BLCP up to
+// round-off. Redundant contacts leave a null wrench that only the sigma floor (1e-6 of the diagonal)
+// resolves, so round-off moves the normal impulses by about eps * 1e6 ~ 2e-10 of their size (1.1e-10
+// seen on a box resting on four corners). Its residual is measured, not assumed.
 constexpr double kSettledChange = 1e-9;
 
+// How far a pass's solution (solved with the friction bounds it was given) is from solving the
+// coupled BLCP, whose bounds come from its own normal impulses: the largest natural-map residual
+// |lambda_j - clamp(lambda_j - w_j / A_jj, -b_j, b_j)| of a friction row under its new bound
+// b_j = mu_j max(0, lambda_n). A sliding row needs its bound to stay put, a sticking row only needs
+// to lie within it, and a row whose box was closed (lambda_n was 0) needs no slip (w_j = 0) or no
+// new bound. So normal impulses may move where the contact does not slip, as the load shares of a
+// resting pile's redundant contacts do from step to step, without any effect on the answer.
+// `w` = A lambda + q.
+inline double friction_mismatch(const FrictionCoupling& f, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
+                                const Eigen::VectorXd& diag) {
+  const std::vector<int>& normal_of = *f.normal_of;
+  double mismatch = 0;
+  for (std::size_t j = 0; j < normal_of.size(); ++j) {
+    if (normal_of[j] < 0) continue;
+    const double bound = (*f.mu)[j] * std::max(0.0, lambda[normal_of[j]]);
+    mismatch = std::max(mismatch, std::abs(lambda[j] - std::clamp(lambda[j] - w[j] / diag[j], -bound, bound)));
+  }
+  return mismatch;
+}
+
 // The friction outer loop of DESIGN.md §3, shared by every direct solver: the friction bounds are
-// fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and returns whether
-// it converged) and recomputed from the new normal impulses between passes; the first pass uses
-// the normal impulses in `lambda` on entry (the warm start). A pass whose normal impulses are those
-// its bounds came from (up to kSettledChange) has solved the coupled BLCP. Otherwise `couple()` (the solver's
-// coupled_friction_step, from that pass's solution) finishes the loop exactly; it is tried once,
-// after the first such pass. Only if it fails do the plain passes go on, until `max_passes` or until
-// no normal impulse with friction rows changed by more than `tolerance` * max |lambda_n|. A BLCP
-// without friction rows takes one pass. `previous` is scratch.
-template <class SolveFixed, class Couple>
-FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
-                                   Eigen::VectorXd& lo, Eigen::VectorXd& hi, int max_passes, double tolerance,
-                                   Eigen::VectorXd& previous, SolveFixed&& solve_fixed, Couple&& couple) {
+// fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and state and returns
+// whether it converged; `fixed_w()` then gives its w = A lambda + q) and recomputed from the new normal impulses between passes; the first pass
+// uses the normal impulses in `lambda` on entry (the warm start). A pass whose friction_mismatch is
+// below kSettledChange * max |lambda_n| has solved the coupled BLCP. Otherwise `couple()` (the
+// solver's coupled_friction_step, from that pass's solution) finishes the loop exactly; it is tried
+// once, after the first such pass. Only if it fails do the plain passes go on, until `max_passes` or
+// until the mismatch is below `tolerance` * max |lambda_n|. A BLCP without friction rows takes one
+// pass. `previous` is scratch.
+template <class SolveFixed, class FixedW, class Couple>
+FrictionPassResult friction_passes(const FrictionCoupling& f, const Eigen::VectorXd& diag, Eigen::VectorXd& lambda,
+                                   std::vector<RowState>& state, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
+                                   int max_passes, double tolerance, Eigen::VectorXd& previous,
+                                   SolveFixed&& solve_fixed, FixedW&& fixed_w, Couple&& couple) {
   const std::vector<int>& normal_of = *f.normal_of;
   const bool has_friction = std::any_of(normal_of.begin(), normal_of.end(), [](int n) { return n >= 0; });
   FrictionPassResult result;
@@ -218,13 +238,10 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, Eigen::VectorXd& l
       result.solved = false;
       return result;
     }
-    double change = 0, size = 0;
-    for (std::size_t j = 0; j < normal_of.size(); ++j) {
-      if (normal_of[j] < 0) continue;
-      const int n = normal_of[j];
-      change = std::max(change, std::abs(lambda[n] - previous[n]));
-      size = std::max(size, std::abs(lambda[n]));
-    }
+    double size = 0;
+    for (std::size_t j = 0; j < normal_of.size(); ++j)
+      if (normal_of[j] >= 0) size = std::max(size, std::abs(lambda[normal_of[j]]));
+    const double change = friction_mismatch(f, lambda, fixed_w(), diag);
     if (!has_friction || change <= kSettledChange * size) {
       result.settled = true;
       return result;

@@ -72,9 +72,15 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   settings.max_iterations = params.max_pivot_iterations;
   settings.pivot_patience = params.murty_after;
   CoupledWorkspace coupled;
+  Eigen::VectorXd w, du;
   const FrictionPassResult passes = friction_passes(
-      s.coupling(), lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
+      s.coupling(), s.diag, lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
       [&] { return sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations); },
+      [&]() -> const Eigen::VectorXd& {
+        apply_a(s, lambda, du, w);
+        w += s.q;
+        return w;
+      },
       [&] {
         bool solved = false;
         sub.serial(kCoupledPhase, [&] {
@@ -91,7 +97,6 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
     monolithic();
   } else {
     store_island_solution(s, lambda, state, rows);
-    Eigen::VectorXd w, du;
     out.island.residual = island_residual(s, lambda, du, w);
   }
   out.wall_ms = wall.ms();

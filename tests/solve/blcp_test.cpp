@@ -228,8 +228,9 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
         BlcpWorkspace ws;
         CoupledWorkspace cw;
         const FrictionPassResult fp = friction_passes(
-            s.coupling(), lambda, state, lo, hi, 200, 1e-12, previous,
+            s.coupling(), s.diag, lambda, state, lo, hi, 200, 1e-12, previous,
             [&] { return solve_blcp(*m, s.q, lo, hi, lambda, state, BlcpSettings{}, ws).converged; },
+            [&]() -> const Eigen::VectorXd& { return ws.w; },
             [&] { return coupled_friction_step(*m, s.q, lo, hi, s.coupling(), lambda, state, BlcpSettings{}, cw); });
         ASSERT_TRUE(fp.solved);
         ok[index] = fp.settled;

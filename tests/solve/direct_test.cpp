@@ -199,8 +199,9 @@ TEST(FrictionPasses, CoupledPivotingSolvesARedundantStackTheLaggedLoopDoesNot) {
     BlcpWorkspace ws;
     CoupledWorkspace cw;
     return friction_passes(
-        sys.coupling(), lambda, state, lo, hi, passes, 1e-13, previous,
+        sys.coupling(), sys.diag, lambda, state, lo, hi, passes, 1e-13, previous,
         [&] { return solve_blcp(matrix, sys.q, lo, hi, lambda, state, BlcpSettings{}, ws).converged; },
+        [&]() -> const Eigen::VectorXd& { return ws.w; },
         [&] {
           return coupled && coupled_friction_step(matrix, sys.q, lo, hi, sys.coupling(), lambda, state,
                                                   BlcpSettings{}, cw);
