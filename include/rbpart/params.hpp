@@ -18,8 +18,9 @@ struct StepParams {
   // Position post-stabilisation (integrate/position_projection.hpp): after each step, Gauss-Newton
   // projections of the rigid joints' position errors and of contacts deeper than projection_depth
   // (m), until every joint error is below joint_tolerance (m or rad); 0 iterations: Baumgarte only.
-  // It runs when the scene has joints, or when some body turned by more than projection_turn (rad)
-  // in the step (the contacts' linearisation errs by ~ r turn^2 / 2 then: 1 mm at 0.1 rad).
+  // It runs when the scene has joints, when some body turned by more than projection_turn (rad) in
+  // the step (the contacts' linearisation errs by ~ r turn^2 / 2 then: 1 mm at 0.1 rad), or when the
+  // direct solvers' friction loop did not settle (residual above friction_tolerance).
   int joint_projection_iterations = 8;
   double joint_tolerance = 1e-6;
   double projection_depth = 0.002;
