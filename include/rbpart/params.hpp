@@ -38,7 +38,11 @@ struct SolverParams {
   // is that of the former Murty safeguard, kept because outputs report it under this key).
   int murty_after = 3;
   int friction_passes = 6;         // outer fixed-point passes for the friction bounds
-  double friction_tolerance = 1e-6;  // relative change of normal impulses that ends the passes
+  // The passes end when the friction rows' natural-map residual under the bounds from the new normal
+  // impulses (friction_mismatch) is below this times max |lambda_n|. A resting 200-rock pile's
+  // lagged pass is within 1.6e-6 (226 creeping contacts on their friction bound); the coupled step
+  // took ~140 pivots (about 90 ms a step) to remove that.
+  double friction_tolerance = 1e-5;
   // PGS (the iterative baseline).
   int pgs_iterations = 100;
   double pgs_tolerance = 1e-8;     // stop when the largest impulse change (scaled) falls below

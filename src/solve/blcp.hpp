@@ -216,11 +216,11 @@ inline double friction_mismatch(const FrictionCoupling& f, const Eigen::VectorXd
 // fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and state and returns
 // whether it converged; `fixed_w()` then gives its w = A lambda + q) and recomputed from the new normal impulses between passes; the first pass
 // uses the normal impulses in `lambda` on entry (the warm start). A pass whose friction_mismatch is
-// below kSettledChange * max |lambda_n| has solved the coupled BLCP. Otherwise `couple()` (the
-// solver's coupled_friction_step, from that pass's solution) finishes the loop exactly; it is tried
-// once, after the first such pass. Only if it fails do the plain passes go on, until `max_passes` or
-// until the mismatch is below `tolerance` * max |lambda_n|. A BLCP without friction rows takes one
-// pass. `previous` is scratch.
+// below `tolerance` * max |lambda_n| (kSettledChange at least, round-off) has solved the coupled
+// BLCP to that tolerance. Otherwise `couple()` (the solver's coupled_friction_step, from that pass's
+// solution) finishes the loop exactly; it is tried once, after the first such pass. Only if it
+// fails do the plain passes go on, until `max_passes` or until the mismatch is within tolerance. A
+// BLCP without friction rows takes one pass. `previous` is scratch.
 template <class SolveFixed, class FixedW, class Couple>
 FrictionPassResult friction_passes(const FrictionCoupling& f, const Eigen::VectorXd& diag, Eigen::VectorXd& lambda,
                                    std::vector<RowState>& state, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
@@ -242,7 +242,7 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, const Eigen::Vecto
     for (std::size_t j = 0; j < normal_of.size(); ++j)
       if (normal_of[j] >= 0) size = std::max(size, std::abs(lambda[normal_of[j]]));
     const double change = friction_mismatch(f, lambda, fixed_w(), diag);
-    if (!has_friction || change <= kSettledChange * size) {
+    if (!has_friction || change <= std::max(kSettledChange, tolerance) * size) {
       result.settled = true;
       return result;
     }
@@ -252,10 +252,6 @@ FrictionPassResult friction_passes(const FrictionCoupling& f, const Eigen::Vecto
         result.settled = true;
         return result;
       }
-    }
-    if (change <= tolerance * size) {
-      result.settled = true;
-      return result;
     }
     // Next bounds: the new normal impulses, averaged with the previous ones after the first passes.
     // Redundant contacts share their load through the small regularisation, and per-point bounds
