@@ -20,7 +20,7 @@ struct StepParams {
   // (m), until every joint error is below joint_tolerance (m or rad); 0 iterations: Baumgarte only.
   // It runs when the scene has joints, when some body turned by more than projection_turn (rad) in
   // the step (the contacts' linearisation errs by ~ r turn^2 / 2 then: 1 mm at 0.1 rad), or when the
-  // direct solvers' friction loop did not settle (residual above friction_tolerance).
+  // direct solvers' friction loop ended unsettled (above friction_tolerance).
   int joint_projection_iterations = 8;
   double joint_tolerance = 1e-6;
   double projection_depth = 0.002;

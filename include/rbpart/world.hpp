@@ -39,6 +39,8 @@ struct StepStats {
   // Islands the solver could not finish within its caps; for the substructured solver also the
   // islands it handed to the monolithic solve after its iteration cap (DESIGN.md §7).
   int fallbacks = 0;
+  // Islands whose friction loop (DESIGN.md §3) ended above its tolerance: approximate impulses.
+  int unsettled = 0;
   double residual = 0;       // scaled natural-map residual of the step's BLCP
   double max_penetration = 0;  // m, deepest contact after collision
   double kinetic_energy = 0;   // J, after the step

@@ -75,6 +75,7 @@ void StatsCsvWriter::write(const StepStats& s) {
   append_int(line_, s.loop_iterations);
   for (double ms : {s.factor_ms, s.schur_ms, s.interface_ms, s.subsystem_ms, s.work_ms, s.critical_path_ms})
     append_ms(line_, ms);
+  append_int(line_, s.unsettled);
   line_.back() = '\n';
   file_.write(line_);
 }

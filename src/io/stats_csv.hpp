@@ -14,12 +14,12 @@ namespace rbpart {
 class StatsCsvWriter {
  public:
   // The columns, in file order; names follow the StepStats / StepProfile fields.
-  static constexpr std::array<const char*, 31> kColumns = {
+  static constexpr std::array<const char*, 32> kColumns = {
       "step", "bodies", "contacts", "rows", "islands", "parts", "interface_rows", "interface_bodies",
       "edge_cut", "collide_ms", "assemble_ms", "graph_ms", "partition_ms", "refine_ms", "solve_ms",
       "integrate_ms", "total_ms", "solver_iterations", "friction_passes", "factorizations", "fallback",
       "blcp_residual", "max_penetration", "kinetic_energy", "loop_iterations", "factor_ms", "schur_ms",
-      "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms"};
+      "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms", "unsettled"};
 
   // Throws InputError if `path` cannot be created. Control characters in parameter keys or values
   // become spaces, so that every parameter stays on its one comment line.

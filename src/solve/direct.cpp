@@ -78,6 +78,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   out.iterations += coupled.events;
   out.factorizations += coupled.factorizations;
   out.failed = !passes.solved;
+  out.unsettled = !passes.settled;
 
   store_island_solution(s, lambda, state, rows);
   // w afresh, as the coupled step may have replaced the last fixed-bounds solve's lambda.
@@ -108,6 +109,7 @@ SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& island
     report.factorizations += o.factorizations;
     report.newton_islands += o.newton;
     report.failures += o.failed;
+    report.unsettled += o.unsettled;
     report.residual = std::max(report.residual, o.residual);
   }
   return report;

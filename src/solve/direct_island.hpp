@@ -15,6 +15,7 @@ namespace rbpart {
 struct IslandOutcome {
   int iterations = 0, passes = 0, factorizations = 0;
   bool newton = false, failed = false;
+  bool unsettled = false;  // the friction loop ended above its tolerance (impulses approximate)
   double residual = 0;
 };
 

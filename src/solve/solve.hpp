@@ -15,6 +15,7 @@ struct SolveReport {
   int factorizations = 0;    // matrix factorisations, summed over islands
   int newton_islands = 0;    // islands where pivoting stalled and projected Newton finished
   int failures = 0;          // islands whose BLCP did not converge within the caps
+  int unsettled = 0;         // islands whose friction loop ended above friction_tolerance
   double residual = 0;       // max scaled natural-map residual over all rows (DESIGN.md §3)
 };
 

@@ -89,6 +89,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
         return solved;
       });
   out.island.passes = passes.passes;
+  out.island.unsettled = !passes.settled;
 
   if (!passes.solved) {
     // The cap was hit or a BLCP failed: the monolithic solve keeps the step correct. `rows` still
@@ -135,6 +136,7 @@ SubstructuredReport solve_substructured(Rows& rows, const Bodies& bodies, const 
     solve.factorizations += o.island.factorizations + o.sub.factorizations;
     solve.newton_islands += o.island.newton || o.sub.newton;
     solve.failures += o.island.failed;
+    solve.unsettled += o.island.unsettled;
     solve.residual = std::max(solve.residual, o.island.residual);
     report.parts += o.parts;
     report.interface_rows += o.interface_rows;
