@@ -25,7 +25,8 @@ double PositionProjection::project(const std::vector<JointFrame>& joints, const 
   contact_rows_.clear();
   for (const Contact& c : contacts) add_contact_normal_row(c, bodies, contact_rows_);
 
-  std::vector<Vec6> move(bodies.size(), Vec6::Zero());  // the projection so far
+  std::vector<Vec6>& move = move_;  // the projection so far
+  move.assign(bodies.size(), Vec6::Zero());
   double worst = 0;
   for (int iteration = 0; iteration <= params.joint_projection_iterations; ++iteration) {
     joint_rows_.clear();
@@ -59,7 +60,8 @@ double PositionProjection::project(const std::vector<JointFrame>& joints, const 
     solve_direct(rows_, bodies, islands_, solver);
 
     // Move every body by M^-1 J^T delta: translation, and rotation by the small angle it gives.
-    std::vector<Vec6> du(bodies.size(), Vec6::Zero());
+    std::vector<Vec6>& du = du_;
+    du.assign(bodies.size(), Vec6::Zero());
     for (std::size_t r = 0; r < rows_.size(); ++r)
       for (int s = 0; s < 2; ++s) {
         const int k = rows_.body[r][s];

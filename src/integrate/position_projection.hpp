@@ -44,6 +44,7 @@ class PositionProjection {
  private:
   Rows joint_rows_, contact_rows_, rows_;
   Islands islands_;
+  std::vector<Vec6> move_, du_;  // per body: the projection so far, and this step's move
 };
 
 }  // namespace rbpart

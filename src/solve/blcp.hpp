@@ -214,10 +214,10 @@ inline double friction_mismatch(const FrictionCoupling& f, const Eigen::VectorXd
 
 // The friction outer loop of DESIGN.md §3, shared by every direct solver: the friction bounds are
 // fixed for one BLCP solve (`solve_fixed()`, which reads lo/hi, updates lambda and state and returns
-// whether it converged; `fixed_w()` then gives its w = A lambda + q) and recomputed from the new normal impulses between passes; the first pass
-// uses the normal impulses in `lambda` on entry (the warm start). A pass whose friction_mismatch is
-// below `tolerance` * max |lambda_n| (kSettledChange at least, round-off) has solved the coupled
-// BLCP to that tolerance. Otherwise `couple()` (the solver's coupled_friction_step, from that pass's
+// whether it converged; `fixed_w()` then gives its w = A lambda + q) and recomputed from the new
+// normal impulses between passes; the first pass uses the normal impulses in `lambda` on entry (the
+// warm start). A pass whose friction_mismatch is below `tolerance` * max |lambda_n| (kSettledChange
+// at least, round-off) has solved the coupled BLCP to that tolerance. Otherwise `couple()` (the solver's coupled_friction_step, from that pass's
 // solution) finishes the loop exactly; it is tried once, after the first such pass. Only if it
 // fails do the plain passes go on, until `max_passes` or until the mismatch is within tolerance. A
 // BLCP without friction rows takes one pass. `previous` is scratch.
