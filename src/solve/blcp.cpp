@@ -979,6 +979,11 @@ bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::Vecto
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& ws) {
   if (A.size() == 0) return true;
+  const std::vector<int>& normal_of = *f.normal_of;
+  int sliding = 0;
+  for (std::size_t t = 0; t < normal_of.size(); ++t)
+    sliding += normal_of[t] >= 0 && state[t] != RowState::Free && state[normal_of[t]] == RowState::Free;
+  if (sliding > kCoupledMaxSliding) return false;
   CoupledPath path(A, q, lo, hi, f, ws);
   using End = CoupledPath::End;
   // Warm paths: from the fixed-bounds solution; from an end point that missed by round-off; after a

@@ -176,6 +176,13 @@ struct CoupledWorkspace {
 // satisfies the BLCP with the friction bounds of its own normal impulses (the tolerance of
 // BlcpSettings): then lambda, state, lo and hi are replaced and true is returned; otherwise
 // nothing changes (numerical failure, the event cap).
+//
+// Not tried (false at once, nothing changed) when the warm start has more than
+// kCoupledMaxSliding sliding friction rows (clamped, with an open normal): each one is a Woodbury
+// column from the first piece on, and the dense capacitance then costs O(k^2) per pivot and O(k^3)
+// per rebuild. The steps it solved on forming 200-rock piles started with at most 550 such rows; a
+// landing 600-rock pile starts with ~2700, where it failed on every step after 2-280 s.
+constexpr int kCoupledMaxSliding = 1024;
 bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::VectorXd& lo, Eigen::VectorXd& hi,
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& ws);

@@ -251,6 +251,76 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
   EXPECT_GE(settled, total * 3 / 4) << settled << " of " << total;
 }
 
+// A diagonal A: independent rows, for problems far larger than a dense test matrix.
+class DiagonalMatrix final : public BlcpMatrix {
+ public:
+  explicit DiagonalMatrix(Eigen::VectorXd d) : d_(std::move(d)) {}
+  int size() const override { return static_cast<int>(d_.size()); }
+  const Eigen::VectorXd& diagonal() const override { return d_; }
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) override { y = d_.cwiseProduct(x); }
+  void solve(Eigen::VectorXd& x) override {
+    for (int j = 0; j < size(); ++j)
+      if (free_[j]) x[j] /= d_[j];
+  }
+
+ protected:
+  bool factor(const std::vector<char>& free) override {
+    free_ = free;
+    return true;
+  }
+
+ private:
+  Eigen::VectorXd d_;
+  std::vector<char> free_;
+};
+
+// `contacts` independent contacts, each a normal row (A = 1, q = -1: lambda_n = 1) and a friction
+// row (A = 1, q = -1, mu = 0.5) that slides on its bound mu lambda_n = 0.5. The warm start is a pass
+// on bounds from lambda_n = 0.5, so every friction row sits on the lagged bound 0.25.
+void coupled_step_on_sliding_contacts(int contacts, bool& solved, Eigen::VectorXd& lambda) {
+  const int n = 2 * contacts;
+  DiagonalMatrix a(Eigen::VectorXd::Ones(n));
+  const Eigen::VectorXd q = -Eigen::VectorXd::Ones(n);
+  std::vector<int> normal_of(n, -1);
+  std::vector<double> mu(n, 0.0);
+  Eigen::VectorXd lo(n), hi(n);
+  lambda.resize(n);
+  std::vector<RowState> state(n);
+  for (int c = 0; c < contacts; ++c) {
+    lo[2 * c] = 0;
+    hi[2 * c] = kInf;
+    lambda[2 * c] = 1;
+    state[2 * c] = RowState::Free;
+    normal_of[2 * c + 1] = 2 * c;
+    mu[2 * c + 1] = 0.5;
+    lo[2 * c + 1] = -0.25;
+    hi[2 * c + 1] = 0.25;
+    lambda[2 * c + 1] = 0.25;
+    state[2 * c + 1] = RowState::Upper;
+  }
+  CoupledWorkspace ws;
+  solved = coupled_friction_step(a, q, lo, hi, FrictionCoupling{&normal_of, &mu}, lambda, state, BlcpSettings{}, ws);
+}
+
+// The coupled step solves a few sliding contacts exactly, and is not tried (nothing changes) once
+// the sliding rows exceed kCoupledMaxSliding.
+TEST(Blcp, CoupledStepIsSkippedAboveItsSlidingRowLimit) {
+  bool solved = false;
+  Eigen::VectorXd lambda;
+  coupled_step_on_sliding_contacts(8, solved, lambda);
+  ASSERT_TRUE(solved);
+  for (int c = 0; c < 8; ++c) {
+    EXPECT_NEAR(lambda[2 * c], 1.0, 1e-12);
+    EXPECT_NEAR(lambda[2 * c + 1], 0.5, 1e-12);
+  }
+  coupled_step_on_sliding_contacts(kCoupledMaxSliding + 1, solved, lambda);
+  EXPECT_FALSE(solved);
+  for (int c = 0; c <= kCoupledMaxSliding; ++c) {
+    EXPECT_EQ(lambda[2 * c], 1.0);
+    EXPECT_EQ(lambda[2 * c + 1], 0.25);
+  }
+}
+
 // Independent reference: try all 3^n index sets, solve each with LU, keep the one that satisfies
 // the BLCP conditions. For SPD A the solution is unique.
 Eigen::VectorXd enumerate_solution(const DenseBlcp& p, int& found) {
