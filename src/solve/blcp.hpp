@@ -224,10 +224,11 @@ inline double friction_mismatch(const FrictionCoupling& f, const Eigen::VectorXd
 // whether it converged; `fixed_w()` then gives its w = A lambda + q) and recomputed from the new
 // normal impulses between passes; the first pass uses the normal impulses in `lambda` on entry (the
 // warm start). A pass whose friction_mismatch is below `tolerance` * max |lambda_n| (kSettledChange
-// at least, round-off) has solved the coupled BLCP to that tolerance. Otherwise `couple()` (the solver's coupled_friction_step, from that pass's
-// solution) finishes the loop exactly; it is tried once, after the first such pass. Only if it
-// fails do the plain passes go on, until `max_passes` or until the mismatch is within tolerance. A
-// BLCP without friction rows takes one pass. `previous` is scratch.
+// at least, round-off) has solved the coupled BLCP to that tolerance. Otherwise `couple()` (the
+// solver's coupled_friction_step, from that pass's solution) finishes the loop exactly; it is tried
+// once, after the first such pass. Only if it fails do the plain passes go on, until `max_passes`
+// or until the mismatch is within tolerance. A BLCP without friction rows takes one pass.
+// `previous` is scratch.
 template <class SolveFixed, class FixedW, class Couple>
 FrictionPassResult friction_passes(const FrictionCoupling& f, const Eigen::VectorXd& diag, Eigen::VectorXd& lambda,
                                    std::vector<RowState>& state, Eigen::VectorXd& lo, Eigen::VectorXd& hi,

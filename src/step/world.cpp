@@ -202,16 +202,17 @@ struct World::Impl {
     for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
     still.assign(bodies.size(), Vec3::Zero());
     // The contact distances are linearised at the poses the round starts from, and a large push
-    // that turns a body can leave it deeper than the linear model says (a rock pushed 25 mm out of
+    // that turns a body can leave it deeper than the linear model says (a rock pushed 27 mm out of
     // a neighbour ended 12 mm in). So while a round found a contact deeper than twice the depth,
     // the contacts are found again at the projected poses and projected once more.
     for (int round = 0; round < kProjectionRounds; ++round) {
       projection_collider.collide(frame_position, bodies.q, still, still, scene.dt, projection_contacts);
       double deepest = 0;
       for (const Contact& c : projection_contacts) deepest = std::max(deepest, -c.distance);
-      if (round > 0 && deepest <= 2 * step_params.projection_depth) break;
-      position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
-      if (deepest <= 2 * step_params.projection_depth) break;
+      const bool deep = deepest > 2 * step_params.projection_depth;
+      if (round == 0 || deep)
+        position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
+      if (!deep) break;
       for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
     }
   }
