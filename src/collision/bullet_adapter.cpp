@@ -1418,6 +1418,8 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
 
 Collider::~Collider() = default;
 
+double Collider::reach(int body) const { return impl_->reach[body]; }
+
 void Collider::collide(const std::vector<Vec3>& frame_position, const std::vector<Quat>& frame_orientation,
                        const std::vector<Vec3>& velocity, const std::vector<Vec3>& angular_velocity, double h,
                        std::vector<Contact>& contacts) {

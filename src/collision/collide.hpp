@@ -58,6 +58,9 @@ class Collider {
                const std::vector<Vec3>& velocity, const std::vector<Vec3>& angular_velocity, double h,
                std::vector<Contact>& contacts);
 
+  // reach_k above: how far a point of body k can be from its centre of mass (0 for static bodies).
+  double reach(int body) const;
+
   // A body's sweep is capped at this (m): 60 m/s at h = 1/60 s, beyond any impact the scenes hold
   // (free fall from 180 m); it bounds the broad phase's pairs if a body's velocity blows up.
   static constexpr double kMaxSweep = 1.0;

@@ -47,6 +47,8 @@ struct World::Impl {
   std::vector<Vec3> frame_position, sliding_v, sliding_w;
   std::vector<Contact> contacts, projection_contacts;
   std::vector<Vec3> still;  // zero velocities: the projection's collision needs no sweep
+  std::vector<Vec3> before_x;  // poses before a projection round
+  std::vector<Quat> before_q;
   Rows rows;
   WarmStart warm;
   PositionProjection position_projection;
@@ -203,16 +205,25 @@ struct World::Impl {
     still.assign(bodies.size(), Vec3::Zero());
     // The contact distances are linearised at the poses the round starts from, and a large push
     // that turns a body can leave it deeper than the linear model says (a rock pushed 27 mm out of
-    // a neighbour ended 12 mm in). So while a round found a contact deeper than twice the depth,
-    // the contacts are found again at the projected poses and projected once more.
+    // a neighbour ended 12 mm in). And a round only guards the pairs it found within the contact
+    // margin: closing a chain's joints can pull a link through a body it was not touching (the
+    // heavy end of a falling chain, 15 mm deep). So the contacts are found again at the projected
+    // poses, and projected once more if deep, while a round found a contact deeper than twice the
+    // depth or moved a body's points more than half the margin (a pair it did not see may have met).
     for (int round = 0; round < kProjectionRounds; ++round) {
       projection_collider.collide(frame_position, bodies.q, still, still, scene.dt, projection_contacts);
       double deepest = 0;
       for (const Contact& c : projection_contacts) deepest = std::max(deepest, -c.distance);
       const bool deep = deepest > 2 * step_params.projection_depth;
-      if (round == 0 || deep)
-        position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
-      if (!deep) break;
+      if (round > 0 && !deep) break;
+      before_x = bodies.x;
+      before_q = bodies.q;
+      position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
+      double moved = 0;
+      for (int i = 0; i < bodies.size(); ++i)
+        moved = std::max(moved, (bodies.x[i] - before_x[i]).norm() +
+                                    projection_collider.reach(i) * bodies.q[i].angularDistance(before_q[i]));
+      if (!deep && 2 * moved <= step_params.contact_margin) break;
       for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
     }
   }
