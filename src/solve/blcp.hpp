@@ -7,7 +7,8 @@
 // eigenvalue ratio ~1e-8) it cycles; when it stops reaching new lows of infeasible rows, a
 // projected Newton method on the QP (Bertsekas 1982) takes over from the best feasible point seen:
 // every iteration solves with A_FF on the current face and takes a projected step that decreases
-// f, so it cannot cycle, and its last step is the same exact face solve as pivoting's. The matrix is
+// f, so it cannot cycle, and its last step is the same exact face solve as pivoting's. On large
+// BLCPs an interior-point method on the QP runs first and gives projected Newton its start. The matrix is
 // reached only through BlcpMatrix (products with A, factor and solve with the free block A_FF), so
 // the monolithic solver, its sparse backends and the interface problem of the substructured solver
 // (DESIGN.md §7) share this one implementation. The friction outer loop (friction_passes) is
@@ -55,9 +56,17 @@ class BlcpMatrix {
     valid_ = factor(free);
     return valid_ ? 1 : -1;
   }
+  // Factors A_FF + diag(shift)_FF for the interior-point phase of solve_blcp; solve() then solves
+  // with it. False if the backend has no such factorisation (the phase is then skipped) or it is
+  // not numerically positive definite. The next prepare() refactors.
+  bool prepare_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) {
+    valid_ = false;
+    return factor_shifted(free, shift);
+  }
  protected:
   // Factors A_FF; false if not numerically positive definite.
   virtual bool factor(const std::vector<char>& free) = 0;
+  virtual bool factor_shifted(const std::vector<char>& /*free*/, const Eigen::VectorXd& /*shift*/) { return false; }
   // Backends whose A changes in place must call this.
   void invalidate() { valid_ = false; }
 
@@ -69,6 +78,9 @@ class BlcpMatrix {
 struct BlcpSettings {
   int max_iterations = 500;  // iterations (each one solve with A_FF) per fixed-bounds solve
   int pivot_patience = 3;    // pivoting iterations without fewer infeasible rows before projected Newton
+  // Smallest BLCP on which a stall of pivoting runs the interior-point phase before projected
+  // Newton (small ones finish in a few cheap factorisations without it).
+  int interior_min_rows = 1000;
   // Feasibility tolerance, relative to s = max_j |q_j|: a clamped row is infeasible when its w has
   // the wrong sign by more than tol = tolerance * s, a free row when lambda leaves its bounds by more
   // than tol / A_jj or |w| > tol. tol never drops below the round-off of w = A lambda + q
@@ -81,13 +93,16 @@ struct BlcpSettings {
 struct BlcpResult {
   int iterations = 0;      // iterations (each one solve with A_FF)
   int factorizations = 0;  // factorisations (reused factors not counted)
-  bool newton = false;     // pivoting stalled and projected Newton finished the solve
+  bool interior = false;   // pivoting stalled and the interior-point phase ran
+  bool newton = false;     // pivoting stalled again and projected Newton finished the solve
   bool converged = false;  // false: lambda/state hold the feasible iterate of least f
 };
 
 // Buffers of solve_blcp, kept across calls so that the iterations do not allocate.
 struct BlcpWorkspace {
   Eigen::VectorXd w, ax, delta, x, gx, step;
+  // Interior-point phase: iterate, its gradient, slacks, multipliers, Theta, steps (and the predictor's), rhs.
+  Eigen::VectorXd ix, ig, sl, su, zl, zu, theta, dx, dzl, dzu, dx_aff, dzl_aff, dzu_aff, rhs;
   std::vector<char> free;
 };
 

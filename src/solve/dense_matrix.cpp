@@ -23,7 +23,13 @@ void DenseBlcpMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   y.noalias() = a_.selfadjointView<Eigen::Lower>() * x;
 }
 
-bool DenseBlcpMatrix::factor(const std::vector<char>& free) {
+bool DenseBlcpMatrix::factor(const std::vector<char>& free) { return factor_gathered(free, nullptr); }
+
+bool DenseBlcpMatrix::factor_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) {
+  return factor_gathered(free, &shift);
+}
+
+bool DenseBlcpMatrix::factor_gathered(const std::vector<char>& free, const Eigen::VectorXd* shift) {
   index_.clear();
   for (int j = 0; j < size(); ++j)
     if (free[j]) index_.push_back(j);
@@ -31,6 +37,8 @@ bool DenseBlcpMatrix::factor(const std::vector<char>& free) {
   // Gather the lower triangle of A_FF; LLT reads nothing else.
   for (int c = 0; c < nf; ++c)
     for (int r = c; r < nf; ++r) l_(r, c) = a_(index_[r], index_[c]);
+  if (shift)
+    for (int c = 0; c < nf; ++c) l_(c, c) += (*shift)[index_[c]];
   Eigen::Ref<Eigen::MatrixXd> block = l_.topLeftCorner(nf, nf);
   // In place: factors the gathered block without a copy. (GCC 12 reports a false
   // -Wmaybe-uninitialized inside Eigen's AVX-512 norm reduction here.)

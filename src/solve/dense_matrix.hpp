@@ -26,6 +26,7 @@ class DenseBlcpMatrix final : public BlcpMatrix {
 
  protected:
   bool factor(const std::vector<char>& free) override;
+  bool factor_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) override;
 
  private:
   Eigen::MatrixXd a_;
@@ -34,6 +35,7 @@ class DenseBlcpMatrix final : public BlcpMatrix {
   Eigen::VectorXd rhs_;      // gathered right-hand side
   std::vector<int> index_;   // free rows in increasing order
   std::optional<Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>> llt_;
+  bool factor_gathered(const std::vector<char>& free, const Eigen::VectorXd* shift);
 };
 
 }  // namespace rbpart

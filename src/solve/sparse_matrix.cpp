@@ -210,6 +210,17 @@ void BodySpaceBlcpMatrix::assign(const IslandSystem& s) {
 void BodySpaceBlcpMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) { apply_a(*s_, x, du_, y); }
 
 bool BodySpaceBlcpMatrix::factor(const std::vector<char>& free) {
+  sigma_ = s_->sigma;
+  return factor_n(free);
+}
+
+// A_FF + Theta_F = J_F M^-1 J_F^T + (Sigma + Theta)_F: the same form with larger compliances.
+bool BodySpaceBlcpMatrix::factor_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) {
+  sigma_ = s_->sigma + shift;
+  return factor_n(free);
+}
+
+bool BodySpaceBlcpMatrix::factor_n(const std::vector<char>& free) {
   using Block = Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>>;
   const IslandSystem& s = *s_;
   std::fill(n_.values.begin(), n_.values.end(), 0.0);
@@ -217,7 +228,7 @@ bool BodySpaceBlcpMatrix::factor(const std::vector<char>& free) {
   // N += J_j^T J_j / sigma_j for every free row j.
   for (int j = 0; j < s.rows; ++j) {
     if (!free[j]) continue;
-    const double inv_sigma = 1.0 / s.sigma[j];
+    const double inv_sigma = 1.0 / sigma_[j];
     const int a = s.body[j][0], b = s.body[j][1];
     const Vec6 ja = inv_sigma * s.jac[j][0];
     Block(&n_.values[diag_base_[a]], 6, 6, Eigen::OuterStride<>(stride_[a])).noalias() += ja * s.jac[j][0].transpose();
@@ -243,13 +254,13 @@ void BodySpaceBlcpMatrix::solve(Eigen::VectorXd& x) {
   g_.setZero();
   for (int j = 0; j < s.rows; ++j) {
     if (!free[j]) continue;
-    const double xs = x[j] / s.sigma[j];
+    const double xs = x[j] / sigma_[j];
     for (int slot = 0; slot < 2; ++slot)
       if (s.body[j][slot] >= 0) g_.segment<6>(6 * s.body[j][slot]) += s.jac[j][slot] * xs;
   }
   chol_->solve(g_.data());
   for (int j = 0; j < s.rows; ++j)
-    if (free[j]) x[j] = (x[j] - row_velocity(s, j, g_)) / s.sigma[j];
+    if (free[j]) x[j] = (x[j] - row_velocity(s, j, g_)) / sigma_[j];
 }
 
 }  // namespace rbpart

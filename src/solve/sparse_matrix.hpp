@@ -60,9 +60,14 @@ class BodySpaceBlcpMatrix final : public BlcpMatrix {
 
  protected:
   bool factor(const std::vector<char>& free) override;
+  bool factor_shifted(const std::vector<char>& free, const Eigen::VectorXd& shift) override;
 
  private:
+  // Factors N with the rows' compliances sigma_ (sigma, plus the shift if any).
+  bool factor_n(const std::vector<char>& free);
+
   const IslandSystem* s_ = nullptr;
+  Eigen::VectorXd sigma_;
   // N's lower triangle, compressed by column, as dense 6 x 6 blocks: the block of bodies (r, c),
   // r >= c, starts at values_[base] with column stride stride_[c] (scalar columns of one body have
   // the same row pattern). Diagonal blocks are stored in full; CHOLMOD ignores their upper part.

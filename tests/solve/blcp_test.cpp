@@ -469,6 +469,61 @@ TEST(Blcp, StalledPivotingIsFinishedByProjectedNewton) {
   EXPECT_GE(newton, 3);
 }
 
+// The interior-point phase (every size here, pivot_patience 0 so that pivoting stalls at once):
+// the backends with a shifted factorisation (dense, body space) run it, the answer is the exact
+// one that plain block pivoting finds; CHOLMOD on A has none and goes straight to projected Newton.
+TEST(Blcp, InteriorPointPhaseGivesTheExactSolution) {
+  std::mt19937 rng(4242);
+  BlcpSettings interior;
+  interior.pivot_patience = 0;
+  interior.interior_min_rows = 0;
+  int ran = 0, total = 0;
+  for (int k = 0; k < 200; ++k) {
+    const DenseBlcp p = testing::random_dense_blcp(rng, 5 + k % 60);
+    const std::vector<RowState> warm = random_states(rng, static_cast<int>(p.q.size()));
+    DenseBlcpMatrix a;
+    a.assign(p.a);
+    const Solution block = run(a, p.q, p.lo, p.hi, warm);
+    const Solution ip = run(a, p.q, p.lo, p.hi, warm, interior);
+    SparseBlcpMatrix sparse;
+    sparse.assign(LowerCsc::from_dense(p.a));
+    const Solution none = run(sparse, p.q, p.lo, p.hi, warm, interior);
+    ASSERT_TRUE(block.result.converged && ip.result.converged && none.result.converged) << k;
+    EXPECT_FALSE(none.result.interior);
+    ran += ip.result.interior;
+    EXPECT_LE(relative_difference(ip.lambda, block.lambda), 1e-9) << k;
+    EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, ip.lambda), 1e-10) << k;
+    expect_consistent_sets(ip, p.lo, p.hi);
+    ++total;
+  }
+  EXPECT_GT(ran, 30);  // 46 of the 200 stall (the others converge before a stall)
+  // Sliding contact islands with redundant rows and tiny sigma, cold started, on both backends.
+  RandomIsland island;
+  for (int k = 0; k < 4; ++k) {
+    testing::IslandOptions opt;
+    opt.rows = 300 + 90 * k;
+    opt.neighbour_radius = 1.2;
+    opt.q_consistent = 1.0;
+    opt.box_fraction = 0;
+    testing::random_contact_island(rng, opt, island);
+    const IslandSystem& s = island.system;
+    DenseBlcpMatrix dense;
+    build_dense(s, dense.matrix());
+    dense.finalize();
+    BodySpaceBlcpMatrix body_space;
+    body_space.assign(s);
+    std::vector<RowState> cold(s.rows);
+    for (int j = 0; j < s.rows; ++j) cold[j] = std::isfinite(s.lo[j]) ? RowState::Lower : RowState::Free;
+    const Solution d = run(dense, s.q, s.lo, s.hi, cold);
+    const Solution b = run(body_space, s.q, s.lo, s.hi, cold, interior);
+    ASSERT_TRUE(d.result.converged && b.result.converged) << k;
+    EXPECT_TRUE(b.result.interior) << k;
+    EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, b.lambda), residual_bound(s.diag, s.q, d.lambda))
+        << k;
+    EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << k;
+  }
+}
+
 // The iteration cap: not converged, but the iterate is finite, admissible and consistent.
 TEST(Blcp, IterationCapLeavesAnAdmissibleIterate) {
   std::mt19937 rng(8);
