@@ -414,33 +414,50 @@ TEST(Blcp, WarmStartFromTheSolutionSetsTakesOneIteration) {
 }
 
 // pivot_patience = 0: projected Newton takes over at the first pivoting iteration that does not
-// reach a new low of infeasible rows. The answers must not change, and the path must be taken.
+// reach a new low of infeasible rows, from the interior-point phase's point when it runs (dense
+// backend, interior_min_rows 0; CHOLMOD on A has no shifted factorisation, so never there). The
+// answers must not change, and every path must be taken.
 TEST(Blcp, ProjectedNewtonAfterTheFirstStallGivesTheSameSolution) {
   std::mt19937 rng(31337);
-  int newton = 0;
+  BlcpSettings settings;
+  settings.pivot_patience = 0;
+  BlcpSettings interior = settings;
+  interior.interior_min_rows = 0;
+  int newton = 0, interior_runs = 0;
   for (int k = 0; k < 300; ++k) {
     const DenseBlcp p = testing::random_dense_blcp(rng, 10 + k % 50);
     const std::vector<RowState> warm = random_states(rng, static_cast<int>(p.q.size()));
     DenseBlcpMatrix a;
     a.assign(p.a);
+    SparseBlcpMatrix sparse;
+    sparse.assign(LowerCsc::from_dense(p.a));
     const Solution block = run(a, p.q, p.lo, p.hi, warm);
-    BlcpSettings settings;
-    settings.pivot_patience = 0;
     const Solution single = run(a, p.q, p.lo, p.hi, warm, settings);
-    ASSERT_TRUE(block.result.converged && single.result.converged);
+    const Solution ip = run(a, p.q, p.lo, p.hi, warm, interior);
+    const Solution none = run(sparse, p.q, p.lo, p.hi, warm, interior);
+    ASSERT_TRUE(block.result.converged && single.result.converged && ip.result.converged && none.result.converged);
     newton += single.result.newton;
-    EXPECT_LE(relative_difference(single.lambda, block.lambda), 1e-9);
-    EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, single.lambda), 1e-10);
+    interior_runs += ip.result.interior;
+    EXPECT_FALSE(single.result.interior || none.result.interior);
+    for (const Solution* s : {&single, &ip}) {
+      EXPECT_LE(relative_difference(s->lambda, block.lambda), 1e-9) << k;
+      EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, s->lambda), 1e-10) << k;
+      expect_consistent_sets(*s, p.lo, p.hi);
+    }
   }
   EXPECT_GT(newton, 30);
+  EXPECT_GT(interior_runs, 30);
 }
 
 // Sliding piles with box friction: block pivoting stalls with many infeasible rows; projected Newton
-// must finish, and the answer must still be exact and match the dense one.
-TEST(Blcp, StalledPivotingIsFinishedByProjectedNewton) {
+// must finish, with or without the interior-point phase first (body space), and the answer must
+// still be exact and match the dense one.
+TEST(Blcp, StalledPivotingIsFinishedExactly) {
   std::mt19937 rng(2718);
   RandomIsland island;
-  int newton = 0;
+  BlcpSettings interior;
+  interior.interior_min_rows = 0;
+  int newton = 0, interior_runs = 0;
   for (int k = 0; k < 6; ++k) {
     testing::IslandOptions opt;
     opt.rows = 300 + 60 * k;
@@ -459,69 +476,19 @@ TEST(Blcp, StalledPivotingIsFinishedByProjectedNewton) {
     for (int j = 0; j < s.rows; ++j) cold[j] = std::isfinite(s.lo[j]) ? RowState::Lower : RowState::Free;
     const Solution d = run(dense, s.q, s.lo, s.hi, cold);
     const Solution b = run(body_space, s.q, s.lo, s.hi, cold);
-    ASSERT_TRUE(d.result.converged && b.result.converged) << k;
+    const Solution i = run(body_space, s.q, s.lo, s.hi, cold, interior);
+    ASSERT_TRUE(d.result.converged && b.result.converged && i.result.converged) << k;
     newton += d.result.newton;
+    interior_runs += i.result.interior;
     const double bound = residual_bound(s.diag, s.q, d.lambda);
     EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, d.lambda), bound) << k;
     EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, b.lambda), bound) << k;
+    EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, i.lambda), bound) << k;
     EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << k;
+    EXPECT_LE(relative_difference(i.lambda, d.lambda), 1e-9) << k;
   }
   EXPECT_GE(newton, 3);
-}
-
-// The interior-point phase (every size here, pivot_patience 0 so that pivoting stalls at once):
-// the backends with a shifted factorisation (dense, body space) run it, the answer is the exact
-// one that plain block pivoting finds; CHOLMOD on A has none and goes straight to projected Newton.
-TEST(Blcp, InteriorPointPhaseGivesTheExactSolution) {
-  std::mt19937 rng(4242);
-  BlcpSettings interior;
-  interior.pivot_patience = 0;
-  interior.interior_min_rows = 0;
-  int ran = 0, total = 0;
-  for (int k = 0; k < 200; ++k) {
-    const DenseBlcp p = testing::random_dense_blcp(rng, 5 + k % 60);
-    const std::vector<RowState> warm = random_states(rng, static_cast<int>(p.q.size()));
-    DenseBlcpMatrix a;
-    a.assign(p.a);
-    const Solution block = run(a, p.q, p.lo, p.hi, warm);
-    const Solution ip = run(a, p.q, p.lo, p.hi, warm, interior);
-    SparseBlcpMatrix sparse;
-    sparse.assign(LowerCsc::from_dense(p.a));
-    const Solution none = run(sparse, p.q, p.lo, p.hi, warm, interior);
-    ASSERT_TRUE(block.result.converged && ip.result.converged && none.result.converged) << k;
-    EXPECT_FALSE(none.result.interior);
-    ran += ip.result.interior;
-    EXPECT_LE(relative_difference(ip.lambda, block.lambda), 1e-9) << k;
-    EXPECT_LE(natural_map_residual(p.a, p.q, p.lo, p.hi, ip.lambda), 1e-10) << k;
-    expect_consistent_sets(ip, p.lo, p.hi);
-    ++total;
-  }
-  EXPECT_GT(ran, 30);  // 46 of the 200 stall (the others converge before a stall)
-  // Sliding contact islands with redundant rows and tiny sigma, cold started, on both backends.
-  RandomIsland island;
-  for (int k = 0; k < 4; ++k) {
-    testing::IslandOptions opt;
-    opt.rows = 300 + 90 * k;
-    opt.neighbour_radius = 1.2;
-    opt.q_consistent = 1.0;
-    opt.box_fraction = 0;
-    testing::random_contact_island(rng, opt, island);
-    const IslandSystem& s = island.system;
-    DenseBlcpMatrix dense;
-    build_dense(s, dense.matrix());
-    dense.finalize();
-    BodySpaceBlcpMatrix body_space;
-    body_space.assign(s);
-    std::vector<RowState> cold(s.rows);
-    for (int j = 0; j < s.rows; ++j) cold[j] = std::isfinite(s.lo[j]) ? RowState::Lower : RowState::Free;
-    const Solution d = run(dense, s.q, s.lo, s.hi, cold);
-    const Solution b = run(body_space, s.q, s.lo, s.hi, cold, interior);
-    ASSERT_TRUE(d.result.converged && b.result.converged) << k;
-    EXPECT_TRUE(b.result.interior) << k;
-    EXPECT_LE(natural_map_residual(dense.matrix(), s.q, s.lo, s.hi, b.lambda), residual_bound(s.diag, s.q, d.lambda))
-        << k;
-    EXPECT_LE(relative_difference(b.lambda, d.lambda), 1e-9) << k;
-  }
+  EXPECT_GE(interior_runs, 3);
 }
 
 // The iteration cap: not converged, but the iterate is finite, admissible and consistent.
