@@ -31,7 +31,8 @@ double clamp_row(double v, double lo, double hi) { return std::clamp(v, lo, std:
 // of the box, or of |q| / A_jj); stopped when the mean complementarity and the dual residual fell
 // by kInteriorGap (at 1e-8 the landing 600-rock pile's projected Newton then needed 30-46 face
 // solves, at 1e-12 6-12), or after kInteriorMaxIterations; steps go kInteriorFraction of the way
-// to the nearest bound; kInteriorRefinements corrections per solve.
+// to the nearest bound; kInteriorRefinements corrections of the corrector's solve (the predictor
+// only sets the centring and the second-order term, and goes unrefined).
 constexpr double kInteriorStart = 1e-2;
 constexpr double kInteriorGap = 1e-12;
 constexpr int kInteriorMaxIterations = 60;
@@ -110,13 +111,12 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
   // dx from ws.rhs on the shifted factor, refined against A + Theta (the body-space backend's
   // Woodbury solve cancels digits), then the multipliers' steps for the complementarity targets
   // c_l, c_u (target(j) gives them).
-  auto direction = [&](auto&& target) {
+  auto direction = [&](auto&& target, int refinements) {
     ws.dx = ws.rhs;
     A.solve(ws.dx);
-    for (int k = 0; k < kInteriorRefinements; ++k) {
+    for (int k = 0; k < refinements; ++k) {
       A.multiply(ws.dx, ws.ax);
       for (int j = 0; j < n; ++j) ws.delta[j] = active[j] ? ws.rhs[j] - ws.ax[j] - ws.theta[j] * ws.dx[j] : 0.0;
-
       A.solve(ws.delta);
       ws.dx += ws.delta;
     }
@@ -148,7 +148,7 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
     ++result.factorizations;
     // Predictor (affine scaling): c = 0.
     for (int j = 0; j < n; ++j) ws.rhs[j] = active[j] ? -ws.ig[j] : 0.0;
-    direction([](int) { return std::pair<double, double>(0.0, 0.0); });
+    direction([](int) { return std::pair<double, double>(0.0, 0.0); }, 0);
     const double sigma = std::pow(complementarity(max_step()) / std::max(mu, std::numeric_limits<double>::min()), 3);
     // Corrector: c = sigma mu - ds_aff dz_aff (ds_l = dx, ds_u = -dx).
     ws.dx_aff = ws.dx;
@@ -163,7 +163,7 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
       ws.rhs[j] = -ws.ig[j] + (std::isfinite(lo[j]) ? cl / ws.sl[j] : 0.0) -
                   (std::isfinite(hi[j]) ? cu / ws.su[j] : 0.0);
     }
-    direction(target);
+    direction(target, kInteriorRefinements);
     const double a = std::min(1.0, kInteriorFraction * max_step());
     for (int j = 0; j < n; ++j) {
       if (!active[j]) continue;
