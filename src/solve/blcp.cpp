@@ -65,7 +65,8 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
       continue;
     }
     // Start a little inside: kInteriorStart of the box, or of the row's natural impulse scale.
-    const double inset = std::isfinite(hi[j] - lo[j]) ? kInteriorStart * (hi[j] - lo[j]) : kInteriorStart * scale / diag[j];
+    const double inset =
+        std::isfinite(hi[j] - lo[j]) ? kInteriorStart * (hi[j] - lo[j]) : kInteriorStart * scale / diag[j];
     if (std::isfinite(lo[j])) x[j] = std::max(x[j], lo[j] + inset);
     if (std::isfinite(hi[j])) x[j] = std::min(x[j], hi[j] - inset);
   }
@@ -134,7 +135,8 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
     double residual = 0;  // dual residual g - z_l + z_u, in units of w
     for (int j = 0; j < n; ++j) {
       if (!active[j]) continue;
-      ws.theta[j] = (std::isfinite(lo[j]) ? ws.zl[j] / ws.sl[j] : 0.0) + (std::isfinite(hi[j]) ? ws.zu[j] / ws.su[j] : 0.0);
+      ws.theta[j] = (std::isfinite(lo[j]) ? ws.zl[j] / ws.sl[j] : 0.0) +
+                    (std::isfinite(hi[j]) ? ws.zu[j] / ws.su[j] : 0.0);
       residual = std::max(residual, std::abs(ws.ig[j] - ws.zl[j] + ws.zu[j]));
     }
     const double mu = complementarity(0);
@@ -155,7 +157,8 @@ bool interior_point(BlcpMatrix& A, const Eigen::VectorXd& q, const Eigen::Vector
     ws.dzl_aff = ws.dzl;
     ws.dzu_aff = ws.dzu;
     auto target = [&](int j) {
-      return std::pair<double, double>(sigma * mu - ws.dx_aff[j] * ws.dzl_aff[j], sigma * mu + ws.dx_aff[j] * ws.dzu_aff[j]);
+      return std::pair<double, double>(sigma * mu - ws.dx_aff[j] * ws.dzl_aff[j],
+                                       sigma * mu + ws.dx_aff[j] * ws.dzu_aff[j]);
     };
     for (int j = 0; j < n; ++j) {
       if (!active[j]) continue;

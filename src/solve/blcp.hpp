@@ -8,11 +8,12 @@
 // projected Newton method on the QP (Bertsekas 1982) takes over from the best feasible point seen:
 // every iteration solves with A_FF on the current face and takes a projected step that decreases
 // f, so it cannot cycle, and its last step is the same exact face solve as pivoting's. On large
-// BLCPs an interior-point method on the QP runs first and gives projected Newton its start. The matrix is
-// reached only through BlcpMatrix (products with A, factor and solve with the free block A_FF), so
-// the monolithic solver, its sparse backends and the interface problem of the substructured solver
-// (DESIGN.md §7) share this one implementation. The friction outer loop (friction_passes) is
-// written once on top of any fixed-bounds solve.
+// BLCPs an interior-point method on the QP runs first and gives projected Newton its start. The
+// matrix is reached only through BlcpMatrix (products with A, factor and solve with the free block
+// A_FF, or with A_FF plus a diagonal shift for the interior-point phase), so the monolithic
+// solver, its sparse backends and the interface problem of the substructured solver (DESIGN.md §7)
+// share this one implementation. The friction outer loop (friction_passes) is written once on top
+// of any fixed-bounds solve.
 #include "assembly/rows.hpp"
 
 #include <Eigen/Core>

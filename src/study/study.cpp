@@ -249,8 +249,8 @@ StudySpec study_preset(const std::string& name) {
     // piles in four layers, so that contacts form at once), every other step replayed. Their
     // islands hold tens of bodies, so n_max is smaller than the paper's for every configuration to
     // partition, refine and couple sub-systems.
-    for (const char* s : {"chain_drop:links=30:height=1.15:bar_height=1", "log_tower:layers=8", "rock_pile:rocks=60:layers=4",
-                          "large_rock_pile:rocks=90:layers=4"})
+    for (const char* s : {"chain_drop:links=30:height=1.15:bar_height=1", "log_tower:layers=8",
+                          "rock_pile:rocks=60:layers=4", "large_rock_pile:rocks=90:layers=4"})
       spec.scenes.push_back(parse_study_scene(s));
     spec.scaling_rocks = {30, 60, 120};
     spec.scaling_overrides = {{"layers", "4"}};

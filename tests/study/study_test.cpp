@@ -37,7 +37,8 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 // problem must hold everything the direct solver reads.
 TEST(Capture, DirectSolveOfARecordedProblemReproducesTheLiveImpulsesBitForBit) {
   // Each scene has loaded rows within the steps checked: the chain falls onto its bar at once.
-  for (const char* text : {"chain_drop:links=12:height=1.15:bar_height=1", "rock_pile:rocks=24:layers=2", "log_tower:layers=4"}) {
+  for (const char* text :
+       {"chain_drop:links=12:height=1.15:bar_height=1", "rock_pile:rocks=24:layers=2", "log_tower:layers=4"}) {
     SCOPED_TRACE(text);
     const SceneDef scene = make_study_scene(parse_study_scene(text));
     constexpr int kSteps = 24, kEvery = 3;
@@ -164,8 +165,8 @@ class TinyStudy : public ::testing::Test {
     fs::remove_all(*dir_);
     spec_ = new StudySpec(study_preset("quick"));
     spec_->preset = "tiny";
-    spec_->scenes = {parse_study_scene("chain_drop:links=10:height=1.15:bar_height=1"), parse_study_scene("log_tower:layers=3"),
-                     parse_study_scene("rock_pile:rocks=6:layers=2")};
+    spec_->scenes = {parse_study_scene("chain_drop:links=10:height=1.15:bar_height=1"),
+                     parse_study_scene("log_tower:layers=3"), parse_study_scene("rock_pile:rocks=6:layers=2")};
     // 6 rocks is the Table 1 scene above (reused, not captured again); 10 rocks is captured.
     spec_->scaling_rocks = {10, 6};
     spec_->scaling_overrides = {{"layers", "2"}};
