@@ -478,6 +478,11 @@ constexpr double kTie = 1e-9;
 constexpr int kRefresh = 32;
 constexpr int kColumnsPerRefresh = 4;
 constexpr double kSmallPivot = 1e-8;
+// Block pivots of the coupled problem tried before its paths (coupled_friction_step), and the
+// GMRES iterations and relative residual of their solves (CoupledPath::krylov).
+constexpr int kJumpRounds = 4;
+constexpr int kKrylovIterations = 80;
+constexpr double kKrylovTolerance = 1e-12;
 // Warm paths restarted from an end point that missed by round-off.
 constexpr int kWarmRestarts = 3;
 // Warm paths tried before the cold path (each from the end or the nearest point of the last).
@@ -563,6 +568,41 @@ class CoupledPath {
     for (int j = 0; j < n_; ++j) ws_.base_free[j] = state[j] == RowState::Free;
     return set_base();
   }
+
+  // The coupled problem itself (s = 0, d = e = 0) on the sets of a fixed-bounds solution: its rows
+  // on a friction bound slide with their normal, the others keep their sets. When the lagged bounds
+  // moved without changing the sets (the load shares of a resting pile's redundant contacts), the
+  // point of this one piece is the answer (finish()), with no path. False if A_FF cannot be factored.
+  bool start_jump(const Eigen::VectorXd& lambda, const std::vector<RowState>& state) {
+    ws_.sets = state;
+    ws_.lambda = lambda;
+    ws_.d.setZero();
+    ws_.e.setZero();
+    for (int t = 0; t < n_; ++t)
+      if (is_friction(t) && ws_.sets[normal_of_[t]] != RowState::Free) ws_.lambda[t] = 0;  // closed
+    s_ = 0;
+    last_ = -1;
+    return set_jump_base();
+  }
+
+  // A block pivot of the coupled problem (Judice & Pires on its tied equations): every row that
+  // finish() found outside its bounds or with w of the wrong sign changes sides, and the base is
+  // refactored for the new free set. The friction rows of a contact that opens start free (sticking).
+  // False if A_FF cannot be factored.
+  bool swap_violated() {
+    for (const int j : ws_.violated) {
+      if (ws_.sets[j] != RowState::Free) {
+        ws_.sets[j] = RowState::Free;
+        for (int c = ws_.friction_start[j]; c < ws_.friction_start[j + 1]; ++c) ws_.sets[ws_.friction_rows[c]] = RowState::Free;
+      } else {
+        ws_.sets[j] = ws_.lambda[j] > ws_.hi[j] ? RowState::Upper : RowState::Lower;
+      }
+    }
+    return set_jump_base();
+  }
+
+  // Rows finish() found violated (outside their bounds, or clamped with w of the wrong sign).
+  int violated() const { return static_cast<int>(ws_.violated.size()); }
 
   // The cold start: the piece for large s, where every bounded row other than friction is clamped
   // (d = +-A_jj pushes its w the right way) and friction rows are free in boxes +-s mu_t; the path
@@ -670,7 +710,7 @@ class CoupledPath {
   enum class End { Accepted, Inexact, Failed };
   End finish(const BlcpSettings& settings, Eigen::VectorXd& lambda, std::vector<RowState>& state,
              Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
-    solve_point(ws_.lambda, ws_.w);  // w holds A lambda here
+    if (!solve_point(ws_.lambda, ws_.w)) return End::Failed;  // w holds A lambda here
     auto terms = [&] {
       double m = 0;
       for (int j = 0; j < n_; ++j) m = std::max(m, std::abs(ws_.lambda[j]) * diag_[j]);
@@ -694,8 +734,7 @@ class CoupledPath {
       }
       if (!(residual > 0) || !(residual < 0.5 * previous) || round == 3 * kMaxRefinements) break;
       previous = residual;
-      if (!base_solve(ws_.r, ws_.g, ws_.ag)) return End::Failed;
-      woodbury(ws_.g, ws_.ag, ws_.t, ws_.at);
+      if (!base_solve(ws_.r, ws_.g, ws_.ag) || !tied_solve(ws_.g, ws_.ag, ws_.t, ws_.at)) return End::Failed;
       ws_.lambda += ws_.t;
       ws_.w += ws_.at;
     }
@@ -705,19 +744,23 @@ class CoupledPath {
     ws_.lo = lo_;
     ws_.hi = hi_;
     set_friction_bounds({&normal_of_, &mu_}, ws_.lambda, ws_.lo, ws_.hi);
+    ws_.violated.clear();
+    bool inexact = false;
     for (int j = 0; j < n_; ++j) {
       const double l = ws_.lambda[j], w = ws_.w[j];
       switch (eq(j)) {
         case Eq::Free:
-          if (std::abs(w) > tol || (ws_.lo[j] - l) * diag_[j] > tol || (l - ws_.hi[j]) * diag_[j] > tol) return End::Inexact;
+          if ((ws_.lo[j] - l) * diag_[j] > tol || (l - ws_.hi[j]) * diag_[j] > tol) ws_.violated.push_back(j);
+          else inexact = inexact || std::abs(w) > tol;
           break;
         case Eq::Bound:
         case Eq::Slide:
-          if (!fixed(j) && (ws_.sets[j] == RowState::Lower ? w < -tol : w > tol)) return End::Inexact;
+          if (!fixed(j) && (ws_.sets[j] == RowState::Lower ? w < -tol : w > tol)) ws_.violated.push_back(j);
           break;
         case Eq::Closed: break;
       }
     }
+    if (inexact || !ws_.violated.empty()) return End::Inexact;
     // Clamped rows exactly on their bounds, free rows clamped against round-off.
     for (int j = 0; j < n_; ++j) {
       const bool open = ws_.lo[j] < ws_.hi[j];
@@ -860,6 +903,7 @@ class CoupledPath {
     const int factored = a_.prepare(ws_.base_free);
     if (factored < 0) return false;
     ws_.factorizations += factored;
+    jump_ = false;
     for (const bool per_s : {false, true}) {
       for (int j = 0; j < n_; ++j) ws_.r[j] = base_rhs(j, per_s);
       if (!base_solve(ws_.r, per_s ? ws_.gd : ws_.ga, per_s ? ws_.agd : ws_.aga)) return false;
@@ -890,6 +934,97 @@ class CoupledPath {
     for (int i = 0; i < n_; ++i) ws_.mixed(i, columns_) = ws_.mixed_free[i] ? ws_.g[i] : ws_.ag[i];
     ws_.column_of[j] = columns_++;
     ws_.column_row.push_back(j);
+    return true;
+  }
+
+  // The base of a jump (start_jump, swap_violated): the current free set, factored, with no columns;
+  // its sliding rows are solved for by krylov() instead.
+  bool set_jump_base() {
+    for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
+    const int factored = a_.prepare(ws_.base_free);
+    if (factored < 0) return false;
+    ws_.factorizations += factored;
+    jump_ = true;
+    columns_ = 0;
+    ws_.sliding.clear();
+    for (int j = 0; j < n_; ++j)
+      if (eq(j) == Eq::Slide) ws_.sliding.push_back(j);
+    return true;
+  }
+
+  // x = E^-1 r (ax = A x) from g = M_b^-1 r and ag = A g, on a jump's base. E differs from M_b only
+  // on the k sliding rows (lambda_t - sign mu lambda_n = r_t instead of lambda_t = r_t), so
+  // x = g + M_b^-1 P z with z on the sliding rows (P embeds them) solving
+  //   z_t - sign_t mu_t (M_b^-1 P z)_n(t) = sign_t mu_t g_n(t),
+  // the capacitance system, here by GMRES: one base solve per iteration, where the columns of
+  // set_base() take k solves and an O(k^3) factorisation. False if it does not converge within
+  // kKrylovIterations or a solve fails.
+  bool krylov(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    const std::vector<int>& rows = ws_.sliding;
+    const int k = static_cast<int>(rows.size());
+    const int most = std::min(k, kKrylovIterations);
+    x = g;
+    ax = ag;
+    if (k == 0) return true;
+    Eigen::VectorXd& b = ws_.kb;
+    b.resize(k);
+    for (int i = 0; i < k; ++i) b[i] = sign(rows[i]) * mu_[rows[i]] * g[normal_of_[rows[i]]];
+    const double beta = b.norm();
+    if (!(beta > 0)) return beta == 0;
+    ws_.kx.resize(n_);
+    ws_.kax.resize(n_);
+    ws_.kv.resize(k, most + 1);
+    ws_.ku.resize(n_, most);
+    ws_.kau.resize(n_, most);
+    ws_.kh.setZero(most + 1, most);
+    ws_.kcs.resize(most);
+    ws_.ksn.resize(most);
+    ws_.kgamma.setZero(most + 1);
+    ws_.kv.col(0) = b / beta;
+    ws_.kgamma[0] = beta;
+    for (int m = 0; m < most; ++m) {
+      ws_.kr.setZero(n_);
+      for (int i = 0; i < k; ++i) ws_.kr[rows[i]] = ws_.kv(i, m);
+      if (!base_solve(ws_.kr, ws_.kx, ws_.kax)) return false;
+      ws_.ku.col(m) = ws_.kx;
+      ws_.kau.col(m) = ws_.kax;
+      for (int i = 0; i < k; ++i) b[i] = ws_.kv(i, m) - sign(rows[i]) * mu_[rows[i]] * ws_.kx[normal_of_[rows[i]]];
+      for (int j = 0; j <= m; ++j) {  // Arnoldi, modified Gram-Schmidt
+        ws_.kh(j, m) = ws_.kv.col(j).dot(b);
+        b -= ws_.kh(j, m) * ws_.kv.col(j);
+      }
+      ws_.kh(m + 1, m) = b.norm();
+      for (int j = 0; j < m; ++j) {  // the earlier Givens rotations, then the one for this column
+        const double h = ws_.kcs[j] * ws_.kh(j, m) + ws_.ksn[j] * ws_.kh(j + 1, m);
+        ws_.kh(j + 1, m) = -ws_.ksn[j] * ws_.kh(j, m) + ws_.kcs[j] * ws_.kh(j + 1, m);
+        ws_.kh(j, m) = h;
+      }
+      const double r = std::hypot(ws_.kh(m, m), ws_.kh(m + 1, m));
+      if (!(r > 0)) return false;
+      const double below = ws_.kh(m + 1, m);
+      ws_.kcs[m] = ws_.kh(m, m) / r;
+      ws_.ksn[m] = below / r;
+      ws_.kh(m, m) = r;
+      ws_.kh(m + 1, m) = 0;
+      ws_.kgamma[m + 1] = -ws_.ksn[m] * ws_.kgamma[m];
+      ws_.kgamma[m] *= ws_.kcs[m];
+      if (std::abs(ws_.kgamma[m + 1]) <= kKrylovTolerance * beta || below == 0) {
+        const Eigen::VectorXd c = ws_.kh.topLeftCorner(m + 1, m + 1).triangularView<Eigen::Upper>().solve(
+            ws_.kgamma.head(m + 1));
+        x.noalias() += ws_.ku.leftCols(m + 1) * c;
+        ax.noalias() += ws_.kau.leftCols(m + 1) * c;
+        return x.allFinite() && ax.allFinite();
+      }
+      ws_.kv.col(m + 1) = b / below;
+    }
+    return false;
+  }
+
+  // x = E^-1 r from g = M_b^-1 r and ag = A g (ax = A x): Woodbury on the columns, or krylov() on a
+  // jump's base.
+  bool tied_solve(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    if (jump_) return krylov(g, ag, x, ax);
+    woodbury(g, ag, x, ax);
     return true;
   }
 
@@ -1002,10 +1137,16 @@ class CoupledPath {
     combine(g, ag, x, ax);
   }
 
-  // The piece's point for ra (lambda at s = 0 of the piece's equations); ax = A x.
-  void solve_point(Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+  // The piece's point for ra (lambda at s = 0 of the piece's equations); ax = A x. False if a
+  // jump's solve fails.
+  bool solve_point(Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    if (jump_) {
+      for (int j = 0; j < n_; ++j) ws_.r[j] = rhs(j, false);
+      return base_solve(ws_.r, ws_.g, ws_.ag) && krylov(ws_.g, ws_.ag, x, ax);
+    }
     weights(ws_.ga, ws_.aga, false);
     combine(ws_.ga, ws_.aga, x, ax);
+    return true;
   }
 
   // The piece's direction, dl = d lambda / ds and dw = d w / ds, from one product: the solution
@@ -1144,6 +1285,7 @@ class CoupledPath {
   double s_ = 1;
   int last_ = -1, last_kind_ = 0;
   int columns_ = 0, base_columns_ = 0;
+  bool jump_ = false;  // the base is a jump's (set_jump_base): no columns, krylov() solves
   int updates_ = 0;     // updates of the capacitance's inverse since it was computed
   bool stale_ = false;  // an update hit a small pivot: recompute the inverse
   double lowest_ = std::numeric_limits<double>::infinity();
@@ -1158,13 +1300,26 @@ bool coupled_friction_step(BlcpMatrix& A, const Eigen::VectorXd& q, Eigen::Vecto
                            const FrictionCoupling& f, Eigen::VectorXd& lambda, std::vector<RowState>& state,
                            const BlcpSettings& settings, CoupledWorkspace& ws) {
   if (A.size() == 0) return true;
+  CoupledPath path(A, q, lo, hi, f, ws);
+  using End = CoupledPath::End;
+  // Block pivots on the coupled problem from the fixed-bounds solution's sets, while they cut the
+  // violated rows: exact when they end, but with no guarantee that they do, so the paths follow.
+  int violated = std::numeric_limits<int>::max();
+  for (int round = 0; round < kJumpRounds; ++round) {
+    if (!(round == 0 ? path.start_jump(lambda, state) : path.swap_violated())) break;
+    const End end = path.finish(settings, lambda, state, lo, hi);
+    if (end == End::Accepted) {
+      ++ws.jumps;
+      return true;
+    }
+    if (end == End::Failed || path.violated() == 0 || path.violated() >= violated) break;
+    violated = path.violated();
+  }
   const std::vector<int>& normal_of = *f.normal_of;
   int sliding = 0;
   for (std::size_t t = 0; t < normal_of.size(); ++t)
     sliding += normal_of[t] >= 0 && state[t] != RowState::Free && state[normal_of[t]] == RowState::Free;
   if (sliding > kCoupledMaxSliding) return false;
-  CoupledPath path(A, q, lo, hi, f, ws);
-  using End = CoupledPath::End;
   // Warm paths: from the fixed-bounds solution; from an end point that missed by round-off; after a
   // path that closed on itself, from the fixed-bounds solution for the normal impulses of its point
   // nearest s = 0 (a path through another start). follow() leaves that point in ws.start.

@@ -166,15 +166,24 @@ struct CoupledWorkspace {
   // its free rows and d w on the others only, so one product with this replaces two.
   Eigen::MatrixXd mixed;
   std::vector<char> mixed_free;
+  std::vector<int> violated;                  // rows an end point violates
+  std::vector<int> sliding;                   // sliding rows of a jump's base
+  Eigen::VectorXd kb, kr, kx, kax, kcs, ksn, kgamma;  // GMRES of a jump's solves
+  Eigen::MatrixXd kv, ku, kau, kh;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   BlcpWorkspace blcp;                         // fixed-bounds solves of restarts
   int factorizations = 0;  // factorisations over all calls (reused factors not counted)
   int events = 0;          // pivots along the paths over all calls
+  int jumps = 0;           // calls solved by block pivots on the coupled problem, with no path
   int cold_starts = 0;     // calls that needed the cold start
 };
 
 // Exact solve of the coupled friction BLCP (DESIGN.md §3: friction bounds +-mu lambda_n of the row's
-// own normal impulse) by complementary pivoting along a piecewise-linear path (Lemke's method in the
+// own normal impulse). First a jump: block pivots (Judice & Pires) on the coupled problem's own
+// equations, from the fixed-bounds solution's sets with its sliding rows tied to their normals
+// (lambda_t = +-mu lambda_n), each solved by GMRES on the sliding rows around one factorisation of
+// A_FF. They have no guarantee of ending, so after a few rounds, or once they stop reducing the
+// violated rows, the guaranteed method runs: complementary pivoting along a piecewise-linear path (Lemke's method in the
 // BLCP's own variables). The path follows the solutions of the deformed problem H(s):
 //   normal rows  w_j + s d_j  complementary to lambda_j >= 0 (other rows with their fixed bounds),
 //   friction     |lambda_t| <= mu lambda_n + s e_t, e_t >= 0, with w_t + s d_t,
@@ -193,7 +202,7 @@ struct CoupledWorkspace {
 // BlcpSettings): then lambda, state, lo and hi are replaced and true is returned; otherwise
 // nothing changes (numerical failure, the event cap).
 //
-// Not tried (false at once, nothing changed) when the warm start has more than
+// The paths are not tried (false, nothing changed) when the warm start has more than
 // kCoupledMaxSliding sliding friction rows (clamped, with an open normal): each one is a Woodbury
 // column from the first piece on, and the dense capacitance then costs O(k^2) per pivot and O(k^3)
 // per rebuild. The steps it solved on forming 200-rock piles started with at most 550 such rows; a

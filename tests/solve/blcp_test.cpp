@@ -205,7 +205,7 @@ TEST(Blcp, SparseAssemblyMatchesDense) {
 TEST(Blcp, FrictionCoupledOuterLoop) {
   std::mt19937 rng(4242);
   RandomIsland island;
-  int settled = 0, total = 0;
+  int settled = 0, total = 0, jumps = 0, pivots = 0;
   for (int rows = 3; rows <= 60; rows += 3)
     for (int k = 0; k < 15; ++k, ++total) {
       testing::IslandOptions opt;
@@ -233,6 +233,8 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
             [&]() -> const Eigen::VectorXd& { return ws.w; },
             [&] { return coupled_friction_step(*m, s.q, lo, hi, s.coupling(), lambda, state, BlcpSettings{}, cw); });
         ASSERT_TRUE(fp.solved);
+        jumps += cw.jumps;
+        pivots += cw.events;
         ok[index] = fp.settled;
         if (fp.settled) {
           set_friction_bounds(s.coupling(), lambda, lo, hi);
@@ -249,6 +251,9 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
   // The fixed-point iteration need not contract for every random coupling (strong lever arms,
   // mu up to 0.8), but does for most.
   EXPECT_GE(settled, total * 3 / 4) << settled << " of " << total;
+  // Both ways of the coupled step ran: jumps, and paths where the jump's block pivots failed.
+  EXPECT_GT(jumps, 0);
+  EXPECT_GT(pivots, 0);
 }
 
 // A diagonal A: independent rows, for problems far larger than a dense test matrix.
@@ -275,12 +280,14 @@ class DiagonalMatrix final : public BlcpMatrix {
 };
 
 // `contacts` independent contacts, each a normal row (A = 1, q = -1: lambda_n = 1) and a friction
-// row (A = 1, q = -1, mu = 0.5) that slides on its bound mu lambda_n = 0.5. The warm start is a pass
-// on bounds from lambda_n = 0.5, so every friction row sits on the lagged bound 0.25.
-void coupled_step_on_sliding_contacts(int contacts, bool& solved, Eigen::VectorXd& lambda) {
+// row (A = 1, q = -pull, mu = 0.5): with pull 1 it slides on its bound mu lambda_n = 0.5, with pull
+// 0.4 it sticks. The warm start is a pass on bounds from lambda_n = 0.5, so every friction row sits
+// on the lagged bound 0.25.
+void coupled_step_on_sliding_contacts(int contacts, double pull, bool& solved, Eigen::VectorXd& lambda,
+                                      CoupledWorkspace& ws) {
   const int n = 2 * contacts;
   DiagonalMatrix a(Eigen::VectorXd::Ones(n));
-  const Eigen::VectorXd q = -Eigen::VectorXd::Ones(n);
+  Eigen::VectorXd q = -Eigen::VectorXd::Ones(n);
   std::vector<int> normal_of(n, -1);
   std::vector<double> mu(n, 0.0);
   Eigen::VectorXd lo(n), hi(n);
@@ -297,27 +304,39 @@ void coupled_step_on_sliding_contacts(int contacts, bool& solved, Eigen::VectorX
     hi[2 * c + 1] = 0.25;
     lambda[2 * c + 1] = 0.25;
     state[2 * c + 1] = RowState::Upper;
+    q[2 * c + 1] = -pull;
   }
-  CoupledWorkspace ws;
   solved = coupled_friction_step(a, q, lo, hi, FrictionCoupling{&normal_of, &mu}, lambda, state, BlcpSettings{}, ws);
 }
 
-// The coupled step solves a few sliding contacts exactly, and is not tried (nothing changes) once
-// the sliding rows exceed kCoupledMaxSliding.
-TEST(Blcp, CoupledStepIsSkippedAboveItsSlidingRowLimit) {
+// When the lagged pass's sets are the coupled problem's, the coupled step solves it by block pivots
+// on its own equations (a jump), with no path pivots: for any number of sliding rows (no path is
+// tried above kCoupledMaxSliding), and after one swap for friction rows that stick within their new
+// boxes though they sat on the lagged bounds.
+TEST(Blcp, CoupledStepJumpsToTheAnswerWithoutAPath) {
+  for (const int contacts : {8, kCoupledMaxSliding + 1}) {
+    bool solved = false;
+    Eigen::VectorXd lambda;
+    CoupledWorkspace ws;
+    coupled_step_on_sliding_contacts(contacts, 1.0, solved, lambda, ws);
+    ASSERT_TRUE(solved);
+    EXPECT_EQ(ws.jumps, 1);
+    EXPECT_EQ(ws.events, 0);
+    for (int c = 0; c < contacts; ++c) {
+      EXPECT_NEAR(lambda[2 * c], 1.0, 1e-12);
+      EXPECT_NEAR(lambda[2 * c + 1], 0.5, 1e-12);
+    }
+  }
   bool solved = false;
   Eigen::VectorXd lambda;
-  coupled_step_on_sliding_contacts(8, solved, lambda);
+  CoupledWorkspace ws;
+  coupled_step_on_sliding_contacts(8, 0.4, solved, lambda, ws);
   ASSERT_TRUE(solved);
+  EXPECT_EQ(ws.jumps, 1);
+  EXPECT_EQ(ws.events, 0);
   for (int c = 0; c < 8; ++c) {
     EXPECT_NEAR(lambda[2 * c], 1.0, 1e-12);
-    EXPECT_NEAR(lambda[2 * c + 1], 0.5, 1e-12);
-  }
-  coupled_step_on_sliding_contacts(kCoupledMaxSliding + 1, solved, lambda);
-  EXPECT_FALSE(solved);
-  for (int c = 0; c <= kCoupledMaxSliding; ++c) {
-    EXPECT_EQ(lambda[2 * c], 1.0);
-    EXPECT_EQ(lambda[2 * c + 1], 0.25);
+    EXPECT_NEAR(lambda[2 * c + 1], 0.4, 1e-12);
   }
 }
 
