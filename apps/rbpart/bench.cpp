@@ -18,7 +18,7 @@ struct Options {
   std::vector<std::string> scenes, partitioners, refiners;
   std::vector<int> nmax, threads, scaling;
   int repeats = 0, steps = 0, every = 0;
-  bool no_scaling = false, no_plots = false;
+  bool no_scaling = false, no_plots = false, resume = false;
   std::string out;
 };
 
@@ -52,7 +52,7 @@ StudySpec study_spec(const Options& o, const CLI::App& cmd) {
 
 int run_bench(const Options& o, const CLI::App& cmd) {
   const StudySpec spec = study_spec(o, cmd);
-  run_study(spec, o.out, stderr);
+  run_study(spec, o.out, stderr, o.resume);
   std::printf("bench: tables in %s (table1.md, table1.csv, steps.csv, scaling.csv, machine.json)\n", o.out.c_str());
   if (o.no_plots) return 0;
   const std::string script = plot_script_path();
@@ -95,6 +95,8 @@ Run add_bench(CLI::App& app) {
   cmd->add_option("--every", o->every, "Record and replay every K-th step");
   cmd->add_flag("--no-plots", o->no_plots, "Write the tables only");
   cmd->add_option("--out", o->out, "Output directory (created if missing)")->required();
+  cmd->add_flag("--resume", o->resume,
+                "Keep the scenes an earlier run of the same study finished in --out, and run the others");
   return [o, cmd]() { return run_bench(*o, *cmd); };
 }
 

@@ -19,6 +19,7 @@ struct SceneResult {
   std::vector<StudyConfig> configs;
   ReplayResult replay;
   double capture_ms = 0, replay_ms = 0;
+  std::string git_revision;   // of the binary that measured it (a resumed study may mix revisions)
 };
 
 // Means over a scene's recorded steps of one configuration's per-step medians (and their median

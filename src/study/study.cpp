@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <thread>
 
 #include "core/error.hpp"
@@ -62,6 +63,150 @@ std::string utc_now() {
   return buffer;
 }
 
+// The protocol of a study (machine.json "study"): what was measured and how.
+nlohmann::ordered_json study_json(const StudySpec& spec) {
+  nlohmann::ordered_json study;
+  nlohmann::ordered_json labels = nlohmann::ordered_json::array();
+  for (const StudyScene& s : spec.scenes) labels.push_back(s.label);
+  study["scenes"] = labels;
+  study["scaling_rocks"] = spec.scaling_rocks;
+  study["steps"] = spec.steps > 0 ? nlohmann::ordered_json(spec.steps) : nlohmann::ordered_json("scene default");
+  study["every"] = spec.every;
+  study["repeats"] = spec.repeats;
+  nlohmann::ordered_json partitioners = nlohmann::ordered_json::array(), refiners = nlohmann::ordered_json::array();
+  for (const PartitionerKind p : spec.partitioners) partitioners.push_back(partitioner_name(p));
+  for (const RefinerKind r : spec.refiners) refiners.push_back(refiner_name(r));
+  study["partitioners"] = partitioners;
+  study["refiners"] = refiners;
+  study["nmax"] = spec.nmax;
+  study["threads"] = spec.threads;
+  return study;
+}
+
+// The simulation and solver parameters of a study (machine.json "parameters").
+nlohmann::ordered_json parameters_json(const StudySpec& spec) {
+  nlohmann::ordered_json params;
+  for (const auto& [key, value] : run_parameters(spec.step_params, spec.solver_params))
+    if (key != "solver" && key != "threads") params[key] = value;
+  params["tau_mr"] = round_trip(spec.partition_params.tau_mr);
+  params["tau_mix"] = round_trip(spec.partition_params.tau_mix);
+  return params;
+}
+
+// The scenes an earlier run of this study finished in `dir` (machine.json lists them; steps.csv
+// holds every configuration's per-step medians, in round-trip form), keyed by label. Nothing if
+// `dir` holds no study. InputError if it holds a study with another protocol (any field of
+// machine.json's "study" but its scene lists, or a parameter), whose scenes would not compare.
+std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const std::vector<StudyConfig>& configs,
+                                                const std::filesystem::path& dir, std::string& started) {
+  std::map<std::string, SceneResult> out;
+  std::ifstream machine_file(dir / "machine.json");
+  if (!machine_file) return out;
+  const std::string where = "--resume: " + (dir / "machine.json").string();
+  nlohmann::ordered_json machine;
+  try {
+    machine = nlohmann::ordered_json::parse(machine_file);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": not a study's machine.json (" + e.what() + ")");
+  }
+  const nlohmann::ordered_json now = study_json(spec), params = parameters_json(spec);
+  const nlohmann::ordered_json* was = machine.contains("study") ? &machine["study"] : nullptr;
+  for (const auto& [key, value] : now.items()) {
+    if (key == "scenes" || key == "scaling_rocks") continue;
+    if (!was || !was->contains(key) || (*was)[key] != value)
+      throw InputError(where + " is a study with another " + key + " (" +
+                       (was && was->contains(key) ? (*was)[key].dump() : "none") + "; this run: " + value.dump() + ")");
+  }
+  if (!machine.contains("parameters") || machine["parameters"] != params)
+    throw InputError(where + " is a study with other simulation or solver parameters");
+  if (machine.contains("started") && machine["started"].is_string()) started = machine["started"];
+
+  // steps.csv rows by scene label, in file order; columns by name.
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+      fields.push_back(line.substr(start, comma - start));
+    fields.push_back(line.substr(start));
+    return fields;
+  };
+  std::string line;
+  std::ifstream steps_file(dir / "steps.csv");
+  std::getline(steps_file, line);
+  if (line + '\n' != steps_csv_header())
+    throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv");
+  const std::vector<std::string> header = split(line);
+  std::map<std::string, std::vector<std::vector<std::string>>> rows;
+  while (std::getline(steps_file, line)) {
+    std::vector<std::string> fields = split(line);
+    if (fields.size() == header.size()) rows[fields[0]].push_back(std::move(fields));
+  }
+  const auto column = [&header](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t solver = column("solver"), partitioner = column("partitioner"), refine = column("refine"),
+                    nmax = column("nmax"), threads = column("threads"), step = column("step");
+  const auto integer = [&](const std::vector<std::string>& v, const char* name) {
+    return std::atoi(v[column(name)].c_str());
+  };
+  const auto number = [&](const std::vector<std::string>& v, const char* name) {
+    return std::strtod(v[column(name)].c_str(), nullptr);
+  };
+  try {
+    for (const nlohmann::ordered_json& entry : machine.value("scenes", nlohmann::ordered_json::array())) {
+      const std::string label = entry.value("label", "");
+      const auto found = rows.find(label);
+      if (found == rows.end() || found->second.size() % configs.size() != 0) continue;
+      const std::size_t steps = found->second.size() / configs.size();
+      SceneResult r;
+      r.label = label;
+      r.configs = configs;
+      r.dynamic_bodies = entry.value("dynamic_bodies", 0);
+      r.simulated_steps = entry.value("simulated_steps", 0);
+      r.capture_ms = 1000 * entry.value("capture_s", 0.0);
+      r.replay_ms = 1000 * entry.value("replay_s", 0.0);
+      r.git_revision = entry.value("git_revision", "unknown");
+      r.replay.direct_mismatches = entry.value("direct_mismatches", 0);
+      r.replay.measures.assign(configs.size(), {});
+      bool complete = true;
+      for (std::size_t c = 0; c < configs.size() && complete; ++c) {
+        const StudyConfig& config = configs[c];
+        for (std::size_t k = 0; k < steps && complete; ++k) {
+          const std::vector<std::string>& v = found->second[c * steps + k];
+          complete = v[solver] == (config.direct() ? "direct" : "substructured") &&
+                     v[partitioner] == partitioner_name(config.partitioner) &&
+                     v[refine] == refiner_name(config.refiner) &&
+                     v[nmax] == (config.direct() ? "" : std::to_string(config.nmax)) &&
+                     v[threads] == std::to_string(config.threads);
+          if (c == 0) {
+            r.steps.push_back(std::atoi(v[step].c_str()));
+            r.rows.push_back(integer(v, "rows"));
+          }
+          complete = complete && r.steps[k] == std::atoi(v[step].c_str());
+          StepMeasure m;
+          m.parts = integer(v, "parts");
+          m.interface_rows = integer(v, "interface_rows");
+          m.interface_bodies = integer(v, "interface_bodies");
+          m.edge_cut = integer(v, "edge_cut");
+          m.loop_iterations = integer(v, "loop_iterations");
+          m.fallbacks = integer(v, "fallbacks");
+          m.partition_ms = number(v, "partition_ms");
+          m.refine_ms = number(v, "refine_ms");
+          m.solve_ms = number(v, "solve_ms");
+          m.work_ms = number(v, "work_ms");
+          m.critical_path_ms = number(v, "critical_path_ms");
+          m.lambda_error = number(v, "lambda_error");
+          r.replay.measures[c].push_back(m);
+        }
+      }
+      if (complete) out.emplace(label, std::move(r));  // else not this study's configurations: measured again
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  return out;
+}
+
 struct Run {
   StudyScene scene;
   std::vector<int> scaling_rocks;  // scaling points this run also provides (a reused Table 1 scene)
@@ -70,8 +215,8 @@ struct Run {
 
 class StudyWriter {
  public:
-  StudyWriter(const StudySpec& spec, std::string dir, const std::vector<StudyConfig>& configs)
-      : spec_(spec), dir_(std::move(dir)), machine_(machine_info()), started_(utc_now()) {
+  StudyWriter(const StudySpec& spec, std::string dir, const std::vector<StudyConfig>& configs, std::string started)
+      : spec_(spec), dir_(std::move(dir)), machine_(machine_info()), started_(std::move(started)) {
     for (const StudyConfig& c : configs)
       if (std::find(threads_.begin(), threads_.end(), c.threads) == threads_.end()) threads_.push_back(c.threads);
   }
@@ -92,12 +237,17 @@ class StudyWriter {
     scene["recorded_steps"] = result.steps.size();
     scene["capture_s"] = std::round(result.capture_ms) / 1000;
     scene["replay_s"] = std::round(result.replay_ms) / 1000;
+    scene["git_revision"] = result.git_revision;
+    scene["direct_mismatches"] = result.replay.direct_mismatches;
     scenes_.push_back(scene);
+    revisions_.insert(result.git_revision);
     for (const StudyConfig& c : result.configs) direct_replays_ += c.direct() ? static_cast<int>(result.steps.size()) : 0;
     direct_mismatches_ += result.replay.direct_mismatches;
   }
 
   int direct_mismatches() const { return direct_mismatches_; }
+  // This binary's revision, as a scene measured now records it.
+  std::string revision() const { return machine_.git_revision + (machine_.git_dirty ? " (modified)" : ""); }
 
   // Every output, each atomically: the whole study so far.
   void write(bool complete) const {
@@ -116,7 +266,11 @@ class StudyWriter {
     for (const int t : threads_) threads += (threads.empty() ? "" : ", ") + std::to_string(t);
     return "Preset `" + spec_.preset + "` on " + machine_.cpu + " (" + std::to_string(machine_.logical_cpus) +
            " hardware threads), " + machine_.compiler + ", " + machine_.build_type + ", git " +
-           machine_.git_revision + (machine_.git_dirty ? " (modified)" : "") + ". Solver threads: " + threads +
+           machine_.git_revision + (machine_.git_dirty ? " (modified)" : "") +
+           (revisions_.size() > 1 || (revisions_.size() == 1 && *revisions_.begin() != revision())
+                ? " (scenes resumed from other revisions: machine.json gives each scene's)"
+                : "") +
+           ". Solver threads: " + threads +
            ".\n\nEvery configuration solved the same recorded step problems (the monolithic direct solver's "
            "trajectory); times are the mean over the recorded steps of each step's median over " +
            std::to_string(spec_.repeats) + (spec_.repeats == 1 ? " run" : " runs") +
@@ -139,27 +293,8 @@ class StudyWriter {
     j["build_type"] = machine_.build_type;
     j["git_revision"] = machine_.git_revision;
     j["git_dirty"] = machine_.git_dirty;
-    nlohmann::ordered_json study;
-    nlohmann::ordered_json labels = nlohmann::ordered_json::array();
-    for (const StudyScene& s : spec_.scenes) labels.push_back(s.label);
-    study["scenes"] = labels;
-    study["scaling_rocks"] = spec_.scaling_rocks;
-    study["steps"] = spec_.steps > 0 ? nlohmann::ordered_json(spec_.steps) : nlohmann::ordered_json("scene default");
-    study["every"] = spec_.every;
-    study["repeats"] = spec_.repeats;
-    nlohmann::ordered_json partitioners = nlohmann::ordered_json::array(), refiners = nlohmann::ordered_json::array();
-    for (const PartitionerKind p : spec_.partitioners) partitioners.push_back(partitioner_name(p));
-    for (const RefinerKind r : spec_.refiners) refiners.push_back(refiner_name(r));
-    study["partitioners"] = partitioners;
-    study["refiners"] = refiners;
-    study["nmax"] = spec_.nmax;
-    j["study"] = study;
-    nlohmann::ordered_json params;
-    for (const auto& [key, value] : run_parameters(spec_.step_params, spec_.solver_params))
-      if (key != "solver" && key != "threads") params[key] = value;
-    params["tau_mr"] = round_trip(spec_.partition_params.tau_mr);
-    params["tau_mix"] = round_trip(spec_.partition_params.tau_mix);
-    j["parameters"] = params;
+    j["study"] = study_json(spec_);
+    j["parameters"] = parameters_json(spec_);
     j["replay_check"] = {{"direct_replays", direct_replays_},
                          {"bit_identical_to_live_run", direct_replays_ - direct_mismatches_}};
     j["scenes"] = scenes_;
@@ -169,6 +304,7 @@ class StudyWriter {
   const StudySpec& spec_;
   std::string dir_;
   MachineInfo machine_;
+  std::set<std::string> revisions_;  // of the scenes added
   std::string started_;
   std::vector<int> threads_;
   std::vector<SceneResult> table1_, scaling_;
@@ -321,7 +457,7 @@ std::vector<StudyConfig> study_configs(const StudySpec& spec) {
   return configs;
 }
 
-void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log) {
+void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log, bool resume) {
   validate_study(spec);
   // Every scene is built once here, so that a bad name or parameter fails before hours of work.
   std::vector<Run> runs;
@@ -340,19 +476,31 @@ void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError("--out '" + out_dir + "': " + ec.message());
+  const std::vector<StudyConfig> configs = study_configs(spec);
+  std::string started = utc_now();
+  std::map<std::string, SceneResult> finished;
+  if (resume) finished = finished_scenes(spec, configs, out_dir, started);
   // Figures of an earlier study in this directory would not match the new tables.
   for (const char* figure : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"})
     std::filesystem::remove(std::filesystem::path(out_dir) / figure, ec);
-  const std::vector<StudyConfig> configs = study_configs(spec);
-  StudyWriter writer(spec, out_dir, configs);
+  StudyWriter writer(spec, out_dir, configs, started);
   writer.write(false);  // fails now, not after the run, if the directory cannot be written
 
   for (const Run& run : runs) {
+    if (const auto done = finished.find(run.scene.label); done != finished.end()) {
+      writer.add(done->second, run);
+      writer.write(false);
+      if (log)
+        std::fprintf(log, "bench: %s: resumed (measured at %s)\n", run.scene.label.c_str(),
+                     done->second.git_revision.c_str());
+      continue;
+    }
     const SceneDef scene = make_study_scene(run.scene);
     const int steps = spec.steps > 0 ? spec.steps : scene.steps;
     SceneResult result;
     result.label = run.scene.label;
     result.configs = configs;
+    result.git_revision = writer.revision();
     {
       Trajectory trajectory;
       {

@@ -67,8 +67,11 @@ std::vector<StudyConfig> study_configs(const StudySpec& spec);
 
 // Runs the study and writes table1.csv, table1.md, steps.csv, scaling.csv and machine.json into
 // `out_dir` (created if missing; InputError if it cannot be written). Every file is rewritten,
-// atomically, after each scene, so an interrupted run leaves the scenes finished so far. Progress
-// bars on stderr when it is a terminal; one summary line per scene on `log` (null: silent).
-void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log);
+// atomically, after each scene, so an interrupted run leaves the scenes finished so far; with
+// `resume`, the scenes an earlier run of the same study (same protocol: machine.json's "study" but
+// its scene lists, and parameters; InputError otherwise) finished there are kept, not measured
+// again, and each scene's revision is recorded. Progress bars on stderr when it is a terminal; one
+// summary line per scene on `log` (null: silent).
+void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log, bool resume = false);
 
 }  // namespace rbpart

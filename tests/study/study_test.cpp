@@ -276,6 +276,59 @@ TEST_F(TinyStudy, MeansAndTheRelativeColumnComeFromTheMediansInStepsCsv) {
   }
 }
 
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// --resume: the scenes an earlier run of the same study finished are kept as they were, not
+// measured again, and the others run; a study with another protocol is refused, its files kept.
+TEST(StudyResume, KeepsFinishedScenesAndRefusesAnotherProtocol) {
+  const fs::path dir = fs::temp_directory_path() / ("rbpart_resume_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  StudySpec spec = study_preset("quick");
+  spec.preset = "tiny";
+  spec.scenes = {parse_study_scene("log_tower:layers=3"), parse_study_scene("rock_pile:rocks=6:layers=2")};
+  spec.scaling_rocks.clear();
+  spec.steps = 12;
+  spec.every = 4;
+  spec.nmax = {4};
+  spec.threads = {1};
+  spec.repeats = 1;
+  spec.partitioners = {PartitionerKind::Bfs, PartitionerKind::MinDp};
+  spec.refiners = {RefinerKind::None};
+  StudySpec interrupted = spec;  // a run that ended after its first scene
+  interrupted.scenes.resize(1);
+  run_study(interrupted, dir.string(), nullptr);
+  const std::vector<Row> before = read_csv(dir / "table1.csv");
+  const std::string steps_before = read_file(dir / "steps.csv");
+  const nlohmann::json machine_before = nlohmann::json::parse(read_file(dir / "machine.json"));
+  ASSERT_EQ(before.size(), 3u);  // direct, BFS, MinDP
+
+  run_study(spec, dir.string(), nullptr, true);
+  const std::vector<Row> after = read_csv(dir / "table1.csv");
+  ASSERT_EQ(after.size(), 6u);
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(after[i], before[i]) << i;  // bit for bit
+  for (std::size_t i = before.size(); i < after.size(); ++i) EXPECT_EQ(after[i].at("scene"), spec.scenes[1].label);
+  const std::string steps_after = read_file(dir / "steps.csv");
+  EXPECT_EQ(steps_after.substr(0, steps_before.size()), steps_before);
+  EXPECT_GT(steps_after.size(), steps_before.size());
+  const nlohmann::json machine = nlohmann::json::parse(read_file(dir / "machine.json"));
+  EXPECT_TRUE(machine.at("complete").get<bool>());
+  EXPECT_EQ(machine.at("started"), machine_before.at("started"));
+  ASSERT_EQ(machine.at("scenes").size(), 2u);
+  EXPECT_EQ(machine.at("scenes")[0], machine_before.at("scenes")[0]);  // its capture time and revision too
+  EXPECT_EQ(machine.at("replay_check").at("direct_replays").get<int>(), 6);
+
+  StudySpec other = spec;
+  other.repeats = 2;
+  const std::string table = read_file(dir / "table1.csv");
+  EXPECT_THROW(run_study(other, dir.string(), nullptr, true), InputError);
+  EXPECT_EQ(read_file(dir / "table1.csv"), table);
+  EXPECT_EQ(read_file(dir / "steps.csv"), steps_after);
+  fs::remove_all(dir);
+}
+
 TEST_F(TinyStudy, DrawsEveryFigure) {
   EXPECT_TRUE(fs::equivalent(plot_script_path(), fs::path(RBPART_SOURCE_DIR) / "scripts" / "plot_study.py"));
   const std::string python = find_plot_python();
