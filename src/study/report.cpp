@@ -109,12 +109,9 @@ std::string steps_csv_rows(const SceneResult& scene) {
     const std::string key = key_columns(scene.label, scene.configs[c]);
     for (std::size_t s = 0; s < scene.steps.size(); ++s) {
       const StepMeasure& m = scene.replay.measures[c][s];
-      out += key;
-      for (const int v : {scene.steps[s], scene.rows[s], m.parts, m.interface_rows, m.interface_bodies, m.edge_cut,
-                          m.loop_iterations, m.fallbacks})
-        out += ',' + std::to_string(v);
-      for (const double v : {m.partition_ms, m.refine_ms, m.solve_ms, m.work_ms, m.critical_path_ms, m.lambda_error})
-        out += ',' + round_trip(v);
+      out += key + ',' + std::to_string(scene.steps[s]) + ',' + std::to_string(scene.rows[s]);
+      for (const auto& [name, field] : kStepCounts) out += ',' + std::to_string(m.*field);
+      for (const auto& [name, field] : kStepValues) out += ',' + round_trip(m.*field);
       out += '\n';
     }
   }

@@ -2,6 +2,7 @@
 // The study's tables: per-step medians (steps.csv), their means per scene and configuration
 // (table1.csv, table1.md, scaling.csv). Formats are described in docs/study.md.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "study/replay.hpp"
@@ -38,6 +39,23 @@ struct ConfigSummary {
 };
 
 std::vector<ConfigSummary> summarize(const SceneResult& scene);
+
+// steps.csv's measured columns after "step,rows", in file order: counts, then times and errors
+// (the writer and the reader of bench --resume share them).
+inline constexpr std::pair<const char*, int StepMeasure::*> kStepCounts[] = {
+    {"parts", &StepMeasure::parts},
+    {"interface_rows", &StepMeasure::interface_rows},
+    {"interface_bodies", &StepMeasure::interface_bodies},
+    {"edge_cut", &StepMeasure::edge_cut},
+    {"loop_iterations", &StepMeasure::loop_iterations},
+    {"fallbacks", &StepMeasure::fallbacks}};
+inline constexpr std::pair<const char*, double StepMeasure::*> kStepValues[] = {
+    {"partition_ms", &StepMeasure::partition_ms},
+    {"refine_ms", &StepMeasure::refine_ms},
+    {"solve_ms", &StepMeasure::solve_ms},
+    {"work_ms", &StepMeasure::work_ms},
+    {"critical_path_ms", &StepMeasure::critical_path_ms},
+    {"lambda_error", &StepMeasure::lambda_error}};
 
 // CSV with a header line; numbers in round-trip form, so that a reader recomputes the table's
 // means and ratios from steps.csv exactly.

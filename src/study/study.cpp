@@ -184,18 +184,8 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
           }
           complete = complete && r.steps[k] == std::atoi(v[step].c_str());
           StepMeasure m;
-          m.parts = integer(v, "parts");
-          m.interface_rows = integer(v, "interface_rows");
-          m.interface_bodies = integer(v, "interface_bodies");
-          m.edge_cut = integer(v, "edge_cut");
-          m.loop_iterations = integer(v, "loop_iterations");
-          m.fallbacks = integer(v, "fallbacks");
-          m.partition_ms = number(v, "partition_ms");
-          m.refine_ms = number(v, "refine_ms");
-          m.solve_ms = number(v, "solve_ms");
-          m.work_ms = number(v, "work_ms");
-          m.critical_path_ms = number(v, "critical_path_ms");
-          m.lambda_error = number(v, "lambda_error");
+          for (const auto& [name, field] : kStepCounts) m.*field = integer(v, name);
+          for (const auto& [name, field] : kStepValues) m.*field = number(v, name);
           r.replay.measures[c].push_back(m);
         }
       }
