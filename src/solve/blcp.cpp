@@ -593,7 +593,8 @@ class CoupledPath {
     for (const int j : ws_.violated) {
       if (ws_.sets[j] != RowState::Free) {
         ws_.sets[j] = RowState::Free;
-        for (int c = ws_.friction_start[j]; c < ws_.friction_start[j + 1]; ++c) ws_.sets[ws_.friction_rows[c]] = RowState::Free;
+        for (int c = ws_.friction_start[j]; c < ws_.friction_start[j + 1]; ++c)
+          ws_.sets[ws_.friction_rows[c]] = RowState::Free;
       } else {
         ws_.sets[j] = ws_.lambda[j] > ws_.hi[j] ? RowState::Upper : RowState::Lower;
       }
@@ -982,8 +983,8 @@ class CoupledPath {
     ws_.kgamma.setZero(most + 1);
     ws_.kv.col(0) = b / beta;
     ws_.kgamma[0] = beta;
+    ws_.kr.setZero(n_);  // nonzero on the sliding rows only, rewritten every iteration
     for (int m = 0; m < most; ++m) {
-      ws_.kr.setZero(n_);
       for (int i = 0; i < k; ++i) ws_.kr[rows[i]] = ws_.kv(i, m);
       if (!base_solve(ws_.kr, ws_.kx, ws_.kax)) return false;
       ws_.ku.col(m) = ws_.kx;

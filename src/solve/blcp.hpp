@@ -183,8 +183,8 @@ struct CoupledWorkspace {
 // equations, from the fixed-bounds solution's sets with its sliding rows tied to their normals
 // (lambda_t = +-mu lambda_n), each solved by GMRES on the sliding rows around one factorisation of
 // A_FF. They have no guarantee of ending, so after a few rounds, or once they stop reducing the
-// violated rows, the guaranteed method runs: complementary pivoting along a piecewise-linear path (Lemke's method in the
-// BLCP's own variables). The path follows the solutions of the deformed problem H(s):
+// violated rows, the guaranteed method runs: complementary pivoting along a piecewise-linear path
+// (Lemke's method in the BLCP's own variables). The path follows the solutions of the deformed problem H(s):
 //   normal rows  w_j + s d_j  complementary to lambda_j >= 0 (other rows with their fixed bounds),
 //   friction     |lambda_t| <= mu lambda_n + s e_t, e_t >= 0, with w_t + s d_t,
 // from s = 1 to s = 0 (the problem itself). On a piece the index sets are fixed and lambda is affine

@@ -145,7 +145,7 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
     return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
   };
   const std::size_t solver = column("solver"), partitioner = column("partitioner"), refine = column("refine"),
-                    nmax = column("nmax"), threads = column("threads"), step = column("step");
+                    nmax = column("nmax"), threads = column("threads");
   const auto integer = [&](const std::vector<std::string>& v, const char* name) {
     return std::atoi(v[column(name)].c_str());
   };
@@ -179,10 +179,10 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
                      v[nmax] == (config.direct() ? "" : std::to_string(config.nmax)) &&
                      v[threads] == std::to_string(config.threads);
           if (c == 0) {
-            r.steps.push_back(std::atoi(v[step].c_str()));
+            r.steps.push_back(integer(v, "step"));
             r.rows.push_back(integer(v, "rows"));
           }
-          complete = complete && r.steps[k] == std::atoi(v[step].c_str());
+          complete = complete && r.steps[k] == integer(v, "step");
           StepMeasure m;
           for (const auto& [name, field] : kStepCounts) m.*field = integer(v, name);
           for (const auto& [name, field] : kStepValues) m.*field = number(v, name);
@@ -255,8 +255,7 @@ class StudyWriter {
     std::string threads;
     for (const int t : threads_) threads += (threads.empty() ? "" : ", ") + std::to_string(t);
     return "Preset `" + spec_.preset + "` on " + machine_.cpu + " (" + std::to_string(machine_.logical_cpus) +
-           " hardware threads), " + machine_.compiler + ", " + machine_.build_type + ", git " +
-           machine_.git_revision + (machine_.git_dirty ? " (modified)" : "") +
+           " hardware threads), " + machine_.compiler + ", " + machine_.build_type + ", git " + revision() +
            (revisions_.size() > 1 || (revisions_.size() == 1 && *revisions_.begin() != revision())
                 ? " (scenes resumed from other revisions: machine.json gives each scene's)"
                 : "") +
