@@ -4,6 +4,7 @@
 #include <suitesparse/cholmod.h>
 
 #include <algorithm>
+#include <mutex>
 #include <stdexcept>
 
 namespace rbpart {
@@ -12,15 +13,34 @@ namespace rbpart {
 // team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
 // of the direct solver's time on a forming 100-rock pile (perf) - and they compete with the TBB
 // workers that already run islands and sub-systems in parallel. So its parallel regions get one
-// thread. The OpenMP runtime is looked up rather than linked: a CHOLMOD without OpenMP has none.
-static void serial_openmp() {
-  static const bool done = [] {
-    using SetLevels = void (*)(int);
-    if (auto set_levels = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
+// thread, and so does a threaded OpenBLAS.
+//
+// CHOLMOD's BLAS calls come from several TBB workers at once when islands are solved in parallel.
+// A single-threaded OpenBLAS (Debian's libopenblas0-serial) has no locks: concurrent calls share
+// its packing buffers and corrupt each other's results - two 60-step runs of the 200-rock pile at
+// 2 threads parted at steps 36-40 - so with it every factorisation and solve holds one process-wide
+// lock. Its pthreads build (what scripts/install_deps.sh installs) locks its buffers itself; its
+// OpenMP build is not trusted with non-OpenMP callers. The runtimes are looked up rather than
+// linked: another BLAS, or a CHOLMOD without OpenMP, has none of these symbols.
+static bool blas_needs_lock() {
+  static const bool lock = [] {
+    using SetInt = void (*)(int);
+    using GetInt = int (*)();
+    if (auto set_levels = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
       set_levels(0);
-    return true;
+    const auto openblas_parallel = reinterpret_cast<GetInt>(dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
+    if (!openblas_parallel) return false;
+    if (auto set_threads = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set_threads(1);
+    return openblas_parallel() != 1;  // 0: single-threaded, 1: pthreads, 2: OpenMP
   }();
-  (void)done;
+  return lock;
+}
+
+// Holds the process-wide BLAS lock if the BLAS needs one, else nothing.
+static std::unique_lock<std::mutex> blas_guard() {
+  static std::mutex m;
+  return blas_needs_lock() ? std::unique_lock<std::mutex>(m) : std::unique_lock<std::mutex>();
 }
 
 // One CHOLMOD supernodal Cholesky factorisation of a fixed-pattern symmetric matrix whose lower
@@ -29,7 +49,7 @@ static void serial_openmp() {
 class CholmodFactor {
  public:
   CholmodFactor() {
-    serial_openmp();
+    blas_needs_lock();  // configures the runtimes before the first call
     cholmod_start(&c_);
     c_.supernodal = CHOLMOD_SUPERNODAL;
     // AMD only (skips CHOLMOD's trial of METIS: the analysis runs every step), and coarser relaxed
@@ -83,6 +103,7 @@ class CholmodFactor {
 
   // Numeric factorisation of the current values; false if not positive definite.
   bool factorize() {
+    const std::unique_lock<std::mutex> hold = blas_guard();
     cholmod_factorize(&a_, l_, &c_);
     return c_.status == CHOLMOD_OK && l_->minor == l_->n;
   }
@@ -90,6 +111,7 @@ class CholmodFactor {
   // x <- A^-1 x.
   void solve(double* x) {
     b_.x = x;
+    const std::unique_lock<std::mutex> hold = blas_guard();
     if (!cholmod_solve2(CHOLMOD_A, l_, &b_, nullptr, &x_, nullptr, &y_, &e_, &c_))
       throw std::runtime_error("CHOLMOD solve failed");
     std::copy_n(static_cast<const double*>(x_->x), l_->n, x);
