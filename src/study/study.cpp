@@ -205,8 +205,9 @@ struct Run {
 
 class StudyWriter {
  public:
-  StudyWriter(const StudySpec& spec, std::string dir, const std::vector<StudyConfig>& configs, std::string started)
-      : spec_(spec), dir_(std::move(dir)), machine_(machine_info()), started_(std::move(started)) {
+  StudyWriter(const StudySpec& spec, std::string dir, const std::vector<StudyConfig>& configs, MachineInfo machine,
+              std::string started)
+      : spec_(spec), dir_(std::move(dir)), machine_(std::move(machine)), started_(std::move(started)) {
     for (const StudyConfig& c : configs)
       if (std::find(threads_.begin(), threads_.end(), c.threads) == threads_.end()) threads_.push_back(c.threads);
   }
@@ -462,6 +463,9 @@ void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log
     else runs.push_back({s, {rocks}, false});
   }
 
+  // Before the directory is touched: in a checkout, removing the old figures below would make the
+  // tree look modified.
+  MachineInfo machine = machine_info();
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError("--out '" + out_dir + "': " + ec.message());
@@ -472,7 +476,7 @@ void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log
   // Figures of an earlier study in this directory would not match the new tables.
   for (const char* figure : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"})
     std::filesystem::remove(std::filesystem::path(out_dir) / figure, ec);
-  StudyWriter writer(spec, out_dir, configs, started);
+  StudyWriter writer(spec, out_dir, configs, std::move(machine), started);
   writer.write(false);  // fails now, not after the run, if the directory cannot be written
 
   for (const Run& run : runs) {
