@@ -140,6 +140,10 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--friction-passes", o->solver_params.friction_passes, "Outer passes for friction bounds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--coupled-paths", o->solver_params.coupled_paths,
+                  "Warm paths of the coupled friction step on islands of 1000+ rows")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--friction-tolerance", o->solver_params.friction_tolerance,
                   "Relative change of normal impulses that ends the friction passes")
       ->check(CLI::NonNegativeNumber)

@@ -37,6 +37,7 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"murty_after", integer(solver.murty_after)},
       {"friction_passes", integer(solver.friction_passes)},
       {"friction_tolerance", real(solver.friction_tolerance)},
+      {"coupled_paths", integer(solver.coupled_paths)},
       {"pgs_iterations", integer(solver.pgs_iterations)},
       {"pgs_tolerance", real(solver.pgs_tolerance)},
       {"substructured_max_iterations", integer(solver.substructured_max_iterations)},

@@ -59,6 +59,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   BlcpSettings settings;
   settings.max_iterations = params.max_pivot_iterations;
   settings.pivot_patience = params.murty_after;
+  settings.coupled_paths = params.coupled_paths;
   BlcpWorkspace ws;
   CoupledWorkspace coupled;
   IslandOutcome out;

@@ -71,6 +71,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   BlcpSettings settings;
   settings.max_iterations = params.max_pivot_iterations;
   settings.pivot_patience = params.murty_after;
+  settings.coupled_paths = params.coupled_paths;
   CoupledWorkspace coupled;
   Eigen::VectorXd w, du;
   const FrictionPassResult passes = friction_passes(
