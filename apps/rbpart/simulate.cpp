@@ -141,7 +141,7 @@ Run add_simulate(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--coupled-paths", o->solver_params.coupled_paths,
-                  "Warm paths of the coupled friction step on islands of 1000+ rows")
+                  "Warm paths of the coupled friction step on islands of 3000+ rows")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--friction-tolerance", o->solver_params.friction_tolerance,

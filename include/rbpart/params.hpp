@@ -43,12 +43,12 @@ struct SolverParams {
   // lagged pass is within 1.6e-6 (226 creeping contacts on their friction bound); the coupled step
   // took ~140 pivots (about 90 ms a step) to remove that.
   double friction_tolerance = 1e-5;
-  // Warm paths the coupled friction step tries on islands of 1000 rows or more before it keeps the
+  // Warm paths the coupled friction step tries on islands of 3000 rows or more before it keeps the
   // lagged bounds (smaller islands: eight, then the cold path). Over the first 200 steps of the
-  // 200-rock pile, on such islands, 42 of its 54 solved paths were the first or second, 12 came
-  // later, and 61 calls failed after eight, costing 178 of the run's 229 s; the cold path was
-  // tried 10 times, solving none. Two and no cold path: 500 steps' solve 206 -> 124 s, with 81
-  // instead of 62 steps ending on the lagged bounds.
+  // 200-rock pile, on its islands of 1000+ rows, 42 of its 54 solved paths were the first or
+  // second, 12 came later, and 61 calls failed after eight, costing 178 of the run's 229 s; the
+  // cold path was tried 10 times, solving none. Two and no cold path: 500 steps' solve 206 -> 117
+  // s, with 74 instead of 62 steps ending on the lagged bounds.
   int coupled_paths = 2;
   // PGS (the iterative baseline).
   int pgs_iterations = 100;

@@ -89,7 +89,7 @@ struct BlcpSettings {
   // natural-map residual is below tol / s: 1e-12, unless redundant rows fight over an inconsistent q
   // (lambda ~ q / sigma).
   double tolerance = 1e-12;
-  // Warm paths of the coupled friction step on islands of 1000 rows or more (SolverParams).
+  // Warm paths of the coupled friction step on islands of 3000 rows or more (SolverParams).
   int coupled_paths = 2;
 };
 
