@@ -44,6 +44,14 @@ std::unique_ptr<BlcpMatrix> make_matrix(const IslandSystem& s, const SolverParam
 
 }  // namespace
 
+BlcpSettings blcp_settings(const SolverParams& params) {
+  BlcpSettings settings;
+  settings.max_iterations = params.max_pivot_iterations;
+  settings.pivot_patience = params.murty_after;
+  settings.coupled_paths = params.coupled_paths;
+  return settings;
+}
+
 IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& islands, int island,
                            const std::vector<int>& local_row, const SolverParams& params) {
   IslandSystem s;
@@ -56,10 +64,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   }
   const std::unique_ptr<BlcpMatrix> a = make_matrix(s, params);
 
-  BlcpSettings settings;
-  settings.max_iterations = params.max_pivot_iterations;
-  settings.pivot_patience = params.murty_after;
-  settings.coupled_paths = params.coupled_paths;
+  const BlcpSettings settings = blcp_settings(params);
   BlcpWorkspace ws;
   CoupledWorkspace coupled;
   IslandOutcome out;

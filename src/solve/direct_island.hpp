@@ -5,6 +5,7 @@
 #include <rbpart/params.hpp>
 
 #include "assembly/rows.hpp"
+#include "solve/blcp.hpp"
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
 
@@ -18,6 +19,9 @@ struct IslandOutcome {
   bool unsettled = false;  // the friction loop ended above its tolerance (impulses approximate)
   double residual = 0;
 };
+
+// The BLCP core's settings from the solver's parameters (every solver's friction loop uses them).
+BlcpSettings blcp_settings(const SolverParams& params);
 
 // Solves island `island` (friction outer loop around the fixed-bounds BLCP core), warm started from
 // rows.lambda/state, and writes the impulses, sets and final friction bounds back into `rows`.

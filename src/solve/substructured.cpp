@@ -68,10 +68,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   out.interface_rows = sub.interface_rows();
   out.interface_bodies = sub.interface_bodies();
 
-  BlcpSettings settings;
-  settings.max_iterations = params.max_pivot_iterations;
-  settings.pivot_patience = params.murty_after;
-  settings.coupled_paths = params.coupled_paths;
+  const BlcpSettings settings = blcp_settings(params);
   CoupledWorkspace coupled;
   Eigen::VectorXd w, du;
   const FrictionPassResult passes = friction_passes(
