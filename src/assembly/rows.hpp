@@ -12,6 +12,7 @@
 namespace rbpart {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 enum class RowKind : std::uint8_t { Normal, Friction, Joint };
 

@@ -741,7 +741,7 @@ class CoupledPath {
       }
       if (!(residual > 0) || !(residual < 0.5 * previous) || round == 3 * kMaxRefinements) break;
       previous = residual;
-      if (!base_solve(ws_.r, ws_.g, ws_.ag) || !tied_solve(ws_.g, ws_.ag, ws_.t, ws_.at)) return End::Failed;
+      if (!piece_solve(ws_.r, ws_.t, ws_.at)) return End::Failed;
       ws_.lambda += ws_.t;
       ws_.w += ws_.at;
     }
@@ -946,16 +946,26 @@ class CoupledPath {
 
   // The base of a jump (start_jump, swap_violated): the current free set, factored, with no columns;
   // its sliding rows are solved for by krylov() instead.
+  // A backend that factors the tied system itself (BlcpMatrix::factor_tied) is used instead.
   bool set_jump_base() {
     for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
-    const int factored = a_.prepare(ws_.base_free);
-    if (factored < 0) return false;
-    ws_.factorizations += factored;
     jump_ = true;
     columns_ = 0;
     ws_.sliding.clear();
+    ws_.tie.clear();
     for (int j = 0; j < n_; ++j)
-      if (eq(j) == Eq::Slide) ws_.sliding.push_back(j);
+      if (eq(j) == Eq::Slide) {
+        ws_.sliding.push_back(j);
+        ws_.tie.push_back(sign(j) * mu_[j]);
+      }
+    tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
+    if (tied_) {
+      ++ws_.factorizations;
+      return true;
+    }
+    const int factored = a_.prepare(ws_.base_free);
+    if (factored < 0) return false;
+    ws_.factorizations += factored;
     return true;
   }
 
@@ -1027,11 +1037,18 @@ class CoupledPath {
     return false;
   }
 
-  // x = E^-1 r from g = M_b^-1 r and ag = A g (ax = A x): Woodbury on the columns, or krylov() on a
-  // jump's base.
-  bool tied_solve(const Eigen::VectorXd& g, const Eigen::VectorXd& ag, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
-    if (jump_) return krylov(g, ag, x, ax);
-    woodbury(g, ag, x, ax);
+  // x = E^-1 r (ax = A x): the backend's tied factorisation on a jump's base if it has one, else
+  // from g = M_b^-1 r by Woodbury on the columns, or by krylov() on a jump's base. Clobbers g, ag.
+  bool piece_solve(const Eigen::VectorXd& r, Eigen::VectorXd& x, Eigen::VectorXd& ax) {
+    if (jump_ && tied_) {
+      x = r;
+      a_.solve_tied(x);
+      a_.multiply(x, ax);
+      return x.allFinite() && ax.allFinite();
+    }
+    if (!base_solve(r, ws_.g, ws_.ag)) return false;
+    if (jump_) return krylov(ws_.g, ws_.ag, x, ax);
+    woodbury(ws_.g, ws_.ag, x, ax);
     return true;
   }
 
@@ -1149,7 +1166,7 @@ class CoupledPath {
   bool solve_point(Eigen::VectorXd& x, Eigen::VectorXd& ax) {
     if (jump_) {
       for (int j = 0; j < n_; ++j) ws_.r[j] = rhs(j, false);
-      return base_solve(ws_.r, ws_.g, ws_.ag) && krylov(ws_.g, ws_.ag, x, ax);
+      return piece_solve(ws_.r, x, ax);
     }
     weights(ws_.ga, ws_.aga, false);
     combine(ws_.ga, ws_.aga, x, ax);
@@ -1293,6 +1310,7 @@ class CoupledPath {
   int last_ = -1, last_kind_ = 0;
   int columns_ = 0, base_columns_ = 0;
   bool jump_ = false;  // the base is a jump's (set_jump_base): no columns, krylov() solves
+  bool tied_ = false;  // ... and the backend factored its tied system
   int updates_ = 0;     // updates of the capacitance's inverse since it was computed
   bool stale_ = false;  // an update hit a small pivot: recompute the inverse
   double lowest_ = std::numeric_limits<double>::infinity();

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <unordered_set>
 #include <vector>
 
@@ -64,6 +65,16 @@ class BlcpMatrix {
     valid_ = false;
     return factor_shifted(free, shift);
   }
+  // The coupled friction step's tied system (tied_factor.hpp): rows with free[j] as in A_FF, row
+  // sliding[i] tied to its (free) normal, x_t - coef[i] x_n = r_t, other rows x_j = r_j. False if
+  // the backend has no such factorisation (the step then solves it iteratively around A_FF) or it
+  // failed. It does not change the factor of A_FF.
+  virtual bool factor_tied(const std::vector<char>& /*free*/, const std::vector<int>& /*sliding*/,
+                           const std::vector<double>& /*coef*/) {
+    return false;
+  }
+  // x <- E^-1 x for the tied system of the last successful factor_tied().
+  virtual void solve_tied(Eigen::VectorXd& /*x*/) { throw std::logic_error("solve_tied: no tied factorisation"); }
  protected:
   // Factors A_FF; false if not numerically positive definite.
   virtual bool factor(const std::vector<char>& free) = 0;
@@ -170,6 +181,7 @@ struct CoupledWorkspace {
   std::vector<char> mixed_free;
   std::vector<int> violated;                  // rows an end point violates
   std::vector<int> sliding;                   // sliding rows of a jump's base
+  std::vector<double> tie;                    // their coefficients: lambda_t = tie * lambda_n
   Eigen::VectorXd kb, kr, kx, kax, kcs, ksn, kgamma;  // GMRES of a jump's solves
   Eigen::MatrixXd kv, ku, kau, kh;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;

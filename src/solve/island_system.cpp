@@ -145,6 +145,16 @@ void build_lower_csc(const IslandSystem& s, LowerCsc& a) {
   }
 }
 
+std::vector<Mat6> body_masses(const IslandSystem& s) {
+  std::vector<Mat6> mass(s.bodies);
+  for (int b = 0; b < s.bodies; ++b) {
+    mass[b].setZero();
+    mass[b].topLeftCorner<3, 3>().diagonal().setConstant(1.0 / s.inv_mass[b]);
+    mass[b].bottomRightCorner<3, 3>() = s.inv_inertia[b].inverse();
+  }
+  return mass;
+}
+
 void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du) {
   du.setZero(6 * s.bodies);
   for (int r = 0; r < s.rows; ++r)

@@ -55,6 +55,9 @@ void build_lower_csc(const IslandSystem& s, LowerCsc& a);
 // Local index of every row within its island (-1 for rows in no island), for IslandSystem::gather.
 std::vector<int> local_row_index(const Rows& rows, const Islands& islands);
 
+// M of every body of the island: (m I3, I_world), the inverse of its M^-1 blocks.
+std::vector<Mat6> body_masses(const IslandSystem& s);
+
 // du = M^-1 J^T x per body (6 * bodies entries: linear, angular).
 void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du);
 // (J du)_j.

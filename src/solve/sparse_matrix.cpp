@@ -216,16 +216,11 @@ void BodySpaceBlcpMatrix::assign(const IslandSystem& s) {
       const int position = static_cast<int>(std::lower_bound(below[c].begin(), below[c].end(), hi_b) - below[c].begin());
       off_base_[r] = diag_base_[c] + 6 * (1 + position);
     }
-  // M per body: (m I3, I_world), the inverse of the island's M^-1 blocks.
-  mass_.resize(nb);
-  for (int b = 0; b < nb; ++b) {
-    mass_[b].setZero();
-    mass_[b].topLeftCorner<3, 3>().diagonal().setConstant(1.0 / s.inv_mass[b]);
-    mass_[b].bottomRightCorner<3, 3>() = s.inv_inertia[b].inverse();
-  }
+  mass_ = body_masses(s);
   g_.resize(6 * nb);
   du_.resize(6 * nb);
   chol_->analyze(n_, n_.values.data());
+  tied_.assign(s);
   invalidate();
 }
 

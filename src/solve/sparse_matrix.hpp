@@ -15,6 +15,7 @@
 //   exact A (multiply()) is what makes its answers exact. Needs sigma_j > 0 on every row.
 #include "solve/blcp.hpp"
 #include "solve/island_system.hpp"
+#include "solve/tied_factor.hpp"
 
 #include <memory>
 
@@ -57,6 +58,11 @@ class BodySpaceBlcpMatrix final : public BlcpMatrix {
   const Eigen::VectorXd& diagonal() const override { return s_->diag; }
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) override;
   void solve(Eigen::VectorXd& x) override;
+  bool factor_tied(const std::vector<char>& free, const std::vector<int>& sliding,
+                   const std::vector<double>& coef) override {
+    return tied_.factor(free, sliding, coef);
+  }
+  void solve_tied(Eigen::VectorXd& x) override { tied_.solve(x); }
 
  protected:
   bool factor(const std::vector<char>& free) override;
@@ -75,10 +81,11 @@ class BodySpaceBlcpMatrix final : public BlcpMatrix {
   std::vector<int> stride_;               // per body (column)
   std::vector<int> diag_base_;            // per body
   std::vector<int> off_base_;             // per row with two bodies: its off-diagonal block, else -1
-  std::vector<Eigen::Matrix<double, 6, 6>> mass_;  // M per body
+  std::vector<Mat6> mass_;  // M per body
   const std::vector<char>* free_ = nullptr;
   Eigen::VectorXd g_, du_;
   std::unique_ptr<CholmodFactor> chol_;
+  TiedBodySpaceLu tied_;
 };
 
 }  // namespace rbpart

@@ -96,12 +96,8 @@ void SubstructuredIsland::assign(const IslandSystem& s, const std::vector<int>& 
       p.touch_body.push_back(interface_position(p, b));
     }
 
-  mass_.resize(s.bodies);
-  for (int b = 0; b < s.bodies; ++b) {
-    mass_[b].setZero();
-    mass_[b].topLeftCorner<3, 3>().diagonal().setConstant(1.0 / s.inv_mass[b]);
-    mass_[b].bottomRightCorner<3, 3>() = s.inv_inertia[b].inverse();
-  }
+  mass_ = body_masses(s);
+  tied_.assign(s);
 
   for (Part& p : parts_) {
     const int n = static_cast<int>(p.rows.size()), nt = static_cast<int>(p.touch.size());

@@ -39,6 +39,7 @@
 #include "solve/dense_matrix.hpp"
 #include "solve/island_system.hpp"
 #include "solve/sub_part.hpp"
+#include "solve/tied_factor.hpp"
 
 #include <array>
 #include <vector>
@@ -98,6 +99,13 @@ class SubstructuredIsland final : public BlcpMatrix {
   const Eigen::VectorXd& diagonal() const override { return s_->diag; }
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) override;
   void solve(Eigen::VectorXd& x) override;
+  // The coupled step's tied system is not substructured: it is factored whole (tied_factor.hpp),
+  // serial work of kCoupledPhase like the rest of the step.
+  bool factor_tied(const std::vector<char>& free, const std::vector<int>& sliding,
+                   const std::vector<double>& coef) override {
+    return tied_.factor(free, sliding, coef);
+  }
+  void solve_tied(Eigen::VectorXd& x) override { tied_.solve(x); }
 
  protected:
   bool factor(const std::vector<char>& free) override;
@@ -190,6 +198,7 @@ class SubstructuredIsland final : public BlcpMatrix {
   std::vector<RowState> state_i_;
   std::vector<char> free_i_;
   BlcpWorkspace interface_ws_;
+  TiedBodySpaceLu tied_;
   // Timing: serial work per phase, walls of the timed sections, the critical path's share of them.
   std::array<double, kPhaseCount> serial_ms_{};
   double accounted_ms_ = 0, span_ms_ = 0;

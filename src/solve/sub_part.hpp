@@ -22,8 +22,6 @@
 
 namespace rbpart {
 
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
 class PartMatrix final : public BlcpMatrix {
  public:
   // The part's rows (island rows whose bodies all lie in the part) and bodies; `body_index` maps an

@@ -298,6 +298,59 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
   EXPECT_GT(pivots, 0);
 }
 
+// The tied system of the coupled step's jump (tied_factor.hpp), factored in body space, against
+// the same equations assembled densely from A: (A x)_j = r_j on free rows, x_t - c_t x_n = r_t on
+// sliding friction rows, x_j = r_j elsewhere. Like every body-space solve it is refined against A.
+TEST(Blcp, TiedBodySpaceSolveIsTheDenseTiedSystem) {
+  std::mt19937 rng(515);
+  RandomIsland island;
+  int tied_rows = 0;
+  for (int rows = 30; rows <= 150; rows += 30)
+    for (int k = 0; k < 4; ++k) {
+      testing::IslandOptions opt;
+      opt.rows = rows;
+      testing::random_contact_island(rng, opt, island);
+      const IslandSystem& s = island.system;
+      DenseBlcpMatrix dense;
+      build_dense(s, dense.matrix());
+      const Eigen::MatrixXd& a = dense.matrix();
+      std::vector<char> free(s.rows);
+      for (int j = 0; j < s.rows; ++j) free[j] = s.normal_of[j] < 0 ? rng() % 4 != 0 : rng() % 2 != 0;
+      std::vector<int> sliding;
+      std::vector<double> coef;
+      for (int j = 0; j < s.rows; ++j)
+        if (s.normal_of[j] >= 0 && free[s.normal_of[j]] && !free[j] && rng() % 3 != 0) {
+          sliding.push_back(j);
+          coef.push_back((rng() % 2 ? 1.0 : -1.0) * s.mu[j]);
+        }
+      tied_rows += static_cast<int>(sliding.size());
+      Eigen::MatrixXd e = Eigen::MatrixXd::Identity(s.rows, s.rows);
+      for (int j = 0; j < s.rows; ++j)
+        if (free[j]) e.row(j) = a.row(j);
+      for (std::size_t i = 0; i < sliding.size(); ++i) e(sliding[i], s.normal_of[sliding[i]]) = -coef[i];
+      const Eigen::VectorXd r = testing::uniform_matrix(rng, s.rows, 1);
+      const Eigen::VectorXd expected = e.partialPivLu().solve(r);
+
+      BodySpaceBlcpMatrix body_space;
+      body_space.assign(s);
+      ASSERT_TRUE(body_space.factor_tied(free, sliding, coef));
+      Eigen::VectorXd x = r;
+      body_space.solve_tied(x);
+      for (int round = 0; round < 3; ++round) {
+        Eigen::VectorXd correction = r - e * x;
+        body_space.solve_tied(correction);
+        x += correction;
+      }
+      // The dense LU is no finer than E's condition (~1/sigma floor) allows: compare answers to
+      // 1e-8, residuals at the round-off of E x.
+      const double terms = (e.cwiseAbs() * x.cwiseAbs()).maxCoeff();
+      EXPECT_LE(relative_difference(x, expected), 1e-8) << rows << " " << k;
+      EXPECT_LE((r - e * x).cwiseAbs().maxCoeff(), 64 * std::numeric_limits<double>::epsilon() * terms)
+          << rows << " " << k;
+    }
+  EXPECT_GT(tied_rows, 100);
+}
+
 // A diagonal A: independent rows, for problems far larger than a dense test matrix.
 class DiagonalMatrix final : public BlcpMatrix {
  public:
