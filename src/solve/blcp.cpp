@@ -461,7 +461,7 @@ namespace {
 // make the first pivot's direction undefined).
 constexpr double kStartMargin = 1e-3;
 // Woodbury columns allowed before the base is refactored for the current free set (also at least
-// twice the columns the base started with: the sliding rows, which always need one).
+// twice the columns the base started with: its sliding rows, unless the backend ties them).
 constexpr int kMinColumns = 64;
 // Pivots of one coupled step (all its paths) before it gives up: kMinEvents plus one per
 // kRowsPerEvent rows. The steps it solved on forming rock piles (100 and 200 rocks, up to 5600
@@ -848,11 +848,15 @@ class CoupledPath {
     }
     return 0.0;
   }
-  double base_rhs(int j, bool per_s) const { return ws_.base_free[j] ? (per_s ? -ws_.d[j] : -q_[j]) : 0.0; }
+  double base_rhs(int j, bool per_s) const {
+    if (ws_.base_free[j]) return per_s ? -ws_.d[j] : -q_[j];
+    return per_s ? ws_.base_sign[j] * ws_.e[j] : 0.0;
+  }
   // Whether row j's equation or right-hand side differs from the base's (it then needs a column).
   bool differs(int j) const {
     const Eq type = eq(j);
     if (ws_.base_free[j]) return type != Eq::Free;
+    if (ws_.base_sign[j] != 0) return !(type == Eq::Slide && sign(j) == ws_.base_sign[j]);
     return !(type == Eq::Closed || (type == Eq::Bound && bound(j) == 0));
   }
   // Row j of E applied to x (ax = A x), and of the base matrix.
@@ -866,12 +870,15 @@ class CoupledPath {
   }
   template <class X, class AX>
   double base_product(int j, const X& x, const AX& ax) const {
-    return ws_.base_free[j] ? ax[j] : x[j];
+    if (ws_.base_free[j]) return ax[j];
+    return ws_.base_sign[j] == 0 ? x[j] : x[j] - ws_.base_sign[j] * mu_[j] * x[normal_of_[j]];
   }
 
-  // g = M_b^-1 r for the base matrix M_b (rows A_j on the base's free set F, identity rows
-  // elsewhere): g_C = r_C, g_F = A_FF^-1 (r_F - A_FC r_C), refined against A; ag = A g.
+  // g = M_b^-1 r for the base matrix M_b (rows A_j on the base's free set F, the tied rows of a
+  // tied base, identity rows elsewhere), refined against A; ag = A g. Untied: g_C = r_C,
+  // g_F = A_FF^-1 (r_F - A_FC r_C).
   bool base_solve(const Eigen::VectorXd& r, Eigen::VectorXd& g, Eigen::VectorXd& ag) {
+    if (tied_) return tied_base_solve(r, g, ag);
     bool clamped = false;
     for (int j = 0; j < n_; ++j) {
       g[j] = ws_.base_free[j] ? 0.0 : r[j];
@@ -904,12 +911,53 @@ class CoupledPath {
     return g.allFinite() && ag.allFinite();
   }
 
-  // Factors the base (free set ws.base_free), solves its right-hand sides and adds a column for
-  // every row whose equation differs from the base's.
+  // g = M_b^-1 r on a tied base (BlcpMatrix::factor_tied), refined against A while that halves the
+  // residual of M_b's equations.
+  bool tied_base_solve(const Eigen::VectorXd& r, Eigen::VectorXd& g, Eigen::VectorXd& ag) {
+    g = r;
+    a_.solve_tied(g);
+    a_.multiply(g, ag);
+    double previous = std::numeric_limits<double>::infinity();
+    for (int round = 0; round < kMaxRefinements; ++round) {
+      double residual = 0, size = 0;
+      for (int j = 0; j < n_; ++j) {
+        ws_.t[j] = r[j] - base_product(j, g, ag);
+        residual = std::max(residual, std::abs(ws_.t[j]) * (ws_.base_free[j] ? 1.0 : diag_[j]));
+        size = std::max({size, std::abs(r[j]), std::abs(g[j]) * diag_[j]});
+      }
+      if (!(residual > kRoundoffFactor * std::numeric_limits<double>::epsilon() * size) || !(residual < 0.5 * previous))
+        break;
+      previous = residual;
+      a_.solve_tied(ws_.t);
+      g += ws_.t;
+      a_.multiply(g, ag);
+    }
+    return g.allFinite() && ag.allFinite();
+  }
+
+  // Factors the base, solves its right-hand sides and adds a column for every row whose equation
+  // differs from the base's. The base is the free set ws.base_free and, if the backend factors tied
+  // systems, the sliding rows of the current piece tied to their normals: every sliding row would
+  // otherwise need a column from the first piece on (hundreds on a landing pile), each one solve.
   bool set_base() {
-    const int factored = a_.prepare(ws_.base_free);
-    if (factored < 0) return false;
-    ws_.factorizations += factored;
+    ws_.base_sign.assign(n_, 0);
+    ws_.sliding.clear();
+    ws_.tie.clear();
+    for (int j = 0; j < n_; ++j)
+      if (eq(j) == Eq::Slide && ws_.base_free[normal_of_[j]]) {
+        ws_.sliding.push_back(j);
+        ws_.tie.push_back(sign(j) * mu_[j]);
+      }
+    tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
+    if (tied_) {
+      ++ws_.factorizations;
+      ++ws_.tied_factorizations;
+      for (const int j : ws_.sliding) ws_.base_sign[j] = static_cast<signed char>(sign(j));
+    } else {
+      const int factored = a_.prepare(ws_.base_free);
+      if (factored < 0) return false;
+      ws_.factorizations += factored;
+    }
     jump_ = false;
     for (const bool per_s : {false, true}) {
       for (int j = 0; j < n_; ++j) ws_.r[j] = base_rhs(j, per_s);
@@ -958,9 +1006,12 @@ class CoupledPath {
         ws_.sliding.push_back(j);
         ws_.tie.push_back(sign(j) * mu_[j]);
       }
+    ws_.base_sign.assign(n_, 0);
     tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
     if (tied_) {
       ++ws_.factorizations;
+      ++ws_.tied_factorizations;
+      for (const int j : ws_.sliding) ws_.base_sign[j] = static_cast<signed char>(sign(j));
       return true;
     }
     const int factored = a_.prepare(ws_.base_free);
@@ -1310,7 +1361,7 @@ class CoupledPath {
   int last_ = -1, last_kind_ = 0;
   int columns_ = 0, base_columns_ = 0;
   bool jump_ = false;  // the base is a jump's (set_jump_base): no columns, krylov() solves
-  bool tied_ = false;  // ... and the backend factored its tied system
+  bool tied_ = false;  // the base is a tied system the backend factored (factor_tied)
   int updates_ = 0;     // updates of the capacitance's inverse since it was computed
   bool stale_ = false;  // an update hit a small pivot: recompute the inverse
   double lowest_ = std::numeric_limits<double>::infinity();

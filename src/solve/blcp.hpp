@@ -169,6 +169,7 @@ inline void update_friction_bounds(const FrictionCoupling& f, const Eigen::Vecto
 struct CoupledWorkspace {
   std::vector<RowState> sets, start_state;    // the path's index sets; sets of a warm start
   std::vector<char> base_free;                // free set of the factored base
+  std::vector<signed char> base_sign;         // +-1 on rows the base ties to their normal, else 0
   std::vector<int> column_of, column_row;     // Woodbury columns: row -> column, column -> row
   std::vector<int> friction_start, friction_rows;  // friction rows of each row (CSR)
   std::unordered_set<std::uint64_t> visited;  // hashes of the visited (sets, direction) pairs
@@ -187,6 +188,7 @@ struct CoupledWorkspace {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   BlcpWorkspace blcp;                         // fixed-bounds solves of restarts
   int factorizations = 0;  // factorisations over all calls (reused factors not counted)
+  int tied_factorizations = 0;  // of them, of tied systems (BlcpMatrix::factor_tied)
   int events = 0;          // pivots along the paths over all calls
   int jumps = 0;           // calls solved by block pivots on the coupled problem, with no path
   int cold_starts = 0;     // calls that needed the cold start

@@ -247,7 +247,7 @@ TEST(Blcp, ConcurrentCholmodSolvesAreTheSerialOnes) {
 TEST(Blcp, FrictionCoupledOuterLoop) {
   std::mt19937 rng(4242);
   RandomIsland island;
-  int settled = 0, total = 0, jumps = 0, pivots = 0;
+  int settled = 0, total = 0, jumps[2] = {0, 0}, pivots[2] = {0, 0}, tied[2] = {0, 0};
   for (int rows = 3; rows <= 60; rows += 3)
     for (int k = 0; k < 15; ++k, ++total) {
       testing::IslandOptions opt;
@@ -275,8 +275,9 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
             [&]() -> const Eigen::VectorXd& { return ws.w; },
             [&] { return coupled_friction_step(*m, s.q, lo, hi, s.coupling(), lambda, state, BlcpSettings{}, cw); });
         ASSERT_TRUE(fp.solved);
-        jumps += cw.jumps;
-        pivots += cw.events;
+        jumps[index] += cw.jumps;
+        pivots[index] += cw.events;
+        tied[index] += cw.tied_factorizations;
         ok[index] = fp.settled;
         if (fp.settled) {
           set_friction_bounds(s.coupling(), lambda, lo, hi);
@@ -293,9 +294,14 @@ TEST(Blcp, FrictionCoupledOuterLoop) {
   // The fixed-point iteration need not contract for every random coupling (strong lever arms,
   // mu up to 0.8), but does for most.
   EXPECT_GE(settled, total * 3 / 4) << settled << " of " << total;
-  // Both ways of the coupled step ran: jumps, and paths where the jump's block pivots failed.
-  EXPECT_GT(jumps, 0);
-  EXPECT_GT(pivots, 0);
+  // Both ways of the coupled step ran on both backends: jumps, and paths where the jump's block
+  // pivots failed; on the body-space backend both on factored tied systems (tied_factor.hpp).
+  for (int m = 0; m < 2; ++m) {
+    EXPECT_GT(jumps[m], 0) << m;
+    EXPECT_GT(pivots[m], 0) << m;
+  }
+  EXPECT_EQ(tied[0], 0);
+  EXPECT_GT(tied[1], 0);
 }
 
 // The tied system of the coupled step's jump (tied_factor.hpp), factored in body space, against
