@@ -570,9 +570,10 @@ class CoupledPath {
     ws_.w += ws_.d;  // w of H(s) is A lambda + q + s d; s = 1
     s_ = 1;
     last_ = -1;
-    // The base is the last pass's free set, whose factor the matrix still holds.
-    for (int j = 0; j < n_; ++j) ws_.base_free[j] = state[j] == RowState::Free;
-    return set_base();
+    // The base: the first piece's own equations (tied, no columns) if the backend factors tied
+    // systems; else the last pass's free set, whose factor the matrix still holds.
+    for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
+    return set_base(&state);
   }
 
   // The coupled problem itself (s = 0, d = e = 0) on the sets of a fixed-bounds solution: its rows
@@ -939,21 +940,11 @@ class CoupledPath {
   // differs from the base's. The base is the free set ws.base_free and, if the backend factors tied
   // systems, the sliding rows of the current piece tied to their normals: every sliding row would
   // otherwise need a column from the first piece on (hundreds on a landing pile), each one solve.
-  bool set_base() {
-    ws_.base_sign.assign(n_, 0);
-    ws_.sliding.clear();
-    ws_.tie.clear();
-    for (int j = 0; j < n_; ++j)
-      if (eq(j) == Eq::Slide && ws_.base_free[normal_of_[j]]) {
-        ws_.sliding.push_back(j);
-        ws_.tie.push_back(sign(j) * mu_[j]);
-      }
-    tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
-    if (tied_) {
-      ++ws_.factorizations;
-      ++ws_.tied_factorizations;
-      for (const int j : ws_.sliding) ws_.base_sign[j] = static_cast<signed char>(sign(j));
-    } else {
+  // `untied`: sets whose free set is factored instead if the base cannot be tied.
+  bool set_base(const std::vector<RowState>* untied = nullptr) {
+    if (!tie_base()) {
+      if (untied)
+        for (int j = 0; j < n_; ++j) ws_.base_free[j] = (*untied)[j] == RowState::Free;
       const int factored = a_.prepare(ws_.base_free);
       if (factored < 0) return false;
       ws_.factorizations += factored;
@@ -992,28 +983,34 @@ class CoupledPath {
     return true;
   }
 
-  // The base of a jump (start_jump, swap_violated): the current free set, factored, with no columns;
-  // its sliding rows are solved for by krylov() instead.
-  // A backend that factors the tied system itself (BlcpMatrix::factor_tied) is used instead.
+  // Collects the current piece's sliding rows (whose normals are in the base's free set) into
+  // ws.sliding and has the backend factor the base with them tied to their normals. False, with an
+  // untied base, if there are none or the backend has no tied factorisation.
+  bool tie_base() {
+    ws_.base_sign.assign(n_, 0);
+    ws_.sliding.clear();
+    ws_.tie.clear();
+    for (int j = 0; j < n_; ++j)
+      if (eq(j) == Eq::Slide && ws_.base_free[normal_of_[j]]) {
+        ws_.sliding.push_back(j);
+        ws_.tie.push_back(sign(j) * mu_[j]);
+      }
+    tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
+    if (!tied_) return false;
+    ++ws_.factorizations;
+    ++ws_.tied_factorizations;
+    for (const int j : ws_.sliding) ws_.base_sign[j] = static_cast<signed char>(sign(j));
+    return true;
+  }
+
+  // The base of a jump (start_jump, swap_violated): the current free set with its sliding rows
+  // tied, and no columns. On a backend without tied factorisation, A_FF is factored and krylov()
+  // solves for the sliding rows.
   bool set_jump_base() {
     for (int j = 0; j < n_; ++j) ws_.base_free[j] = eq(j) == Eq::Free;
     jump_ = true;
     columns_ = 0;
-    ws_.sliding.clear();
-    ws_.tie.clear();
-    for (int j = 0; j < n_; ++j)
-      if (eq(j) == Eq::Slide) {
-        ws_.sliding.push_back(j);
-        ws_.tie.push_back(sign(j) * mu_[j]);
-      }
-    ws_.base_sign.assign(n_, 0);
-    tied_ = !ws_.sliding.empty() && a_.factor_tied(ws_.base_free, ws_.sliding, ws_.tie);
-    if (tied_) {
-      ++ws_.factorizations;
-      ++ws_.tied_factorizations;
-      for (const int j : ws_.sliding) ws_.base_sign[j] = static_cast<signed char>(sign(j));
-      return true;
-    }
+    if (tie_base()) return true;
     const int factored = a_.prepare(ws_.base_free);
     if (factored < 0) return false;
     ws_.factorizations += factored;

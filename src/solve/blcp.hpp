@@ -181,7 +181,7 @@ struct CoupledWorkspace {
   Eigen::MatrixXd mixed;
   std::vector<char> mixed_free;
   std::vector<int> violated;                  // rows an end point violates
-  std::vector<int> sliding;                   // sliding rows of a jump's base
+  std::vector<int> sliding;                   // sliding rows of the base (tied, or krylov()'s)
   std::vector<double> tie;                    // their coefficients: lambda_t = tie * lambda_n
   Eigen::VectorXd kb, kr, kx, kax, kcs, ksn, kgamma;  // GMRES of a jump's solves
   Eigen::MatrixXd kv, ku, kau, kh;
