@@ -38,8 +38,9 @@
 //      foot inside the face) is a contact too, in both directions (vertex_faces): a rock's faces
 //      are small triangles, so steps 3-4 cover a few centimetres of it, and the vertices beside
 //      them, which a tilting or turning rock brings down within the step, would go unguarded.
-//   6. At most 8 points are kept (reduce): a footprint of four, then the points that the bodies'
-//      motion drives in within the step.
+//   6. At most 8 points are kept (reduce): a footprint of four (when it includes higher points, also
+//      the points in contact beside it), then the points that the bodies' motion drives in within
+//      the step.
 // - Persistence: each pair algorithm keeps its points (a btPersistentManifold holds four at most).
 //   A new point within the pair's margin of one of its previous points (in either body's frame;
 //   the sweeps bound how far a point moves on the other body, rolling moves it on both) takes over
@@ -637,6 +638,11 @@ bool clip_segment(const std::vector<Vec3>& ref, const Vec3& m, std::vector<Vec3>
 //   across n, each less twice the point's height above the deepest). Drawn from the points as deep
 //   as the deepest if they span a triangle (a rock resting on the three vertices of a small face
 //   needs all three), else from all. A footprint bounds a flat patch; a pair at rest needs no more.
+// - When the footprint was drawn from all points, the points in contact (distance <= 0) beside it
+//   (over none of its triangles): a turn about its edge drives them further in at once, and its
+//   higher points do not hold them. A rock rocking on the floor between two corners (two points as
+//   deep as the deepest) kept a footprint point 8 mm up; the other corner, 0.6 mm in, was dropped
+//   for a step, sank 2 mm, and the stabilisation's push out kept the rock rocking for good.
 // - The points that the step's motion would drive in by more than the allowance (predicted
 //   distance), most threatened first: a turning or tumbling rock brings down vertices that no
 //   footprint bounds.
@@ -671,7 +677,8 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
   std::vector<int> level;
   for (int i : low)
     if (pts[i].distance <= pts[pick[0]].distance + allowance) level.push_back(i);
-  if (level.size() < 3) level = low;
+  const bool spread = level.size() < 3;  // the footprint is drawn from all points
+  if (spread) level = low;
   const Vec3 p0 = across(pick[0]);
   auto height = [&](int i) { return 2 * (pts[i].distance - pts[pick[0]].distance); };
   int far = pick[0];
@@ -730,6 +737,10 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     for (int k : pick) held = held || k == i || near(i, k);
     if (!held) pick.push_back(i);
   };
+  for (int i : low)
+    if (spread && static_cast<int>(pick.size()) < kMaxPoints && pts[i].distance <= 0 && below(i) == -INFINITY &&
+        std::find(pick.begin(), pick.end(), i) == pick.end())
+      pick.push_back(i);
   std::vector<int> order(count);
   for (int i = 0; i < count; ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](int x, int y) { return pts[x].predicted < pts[y].predicted; });

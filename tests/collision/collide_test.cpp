@@ -238,6 +238,64 @@ TEST(Collide, HullRestingOnOneOfItsFacesHasExactDistances) {
   }
 }
 
+TEST(Collide, TiltedRocksKeepEveryPointInContact) {
+  // Random rocks at rest, a random face turned down and tilted by 1-6 degrees, lowered until their
+  // lowest vertex is 0.4 mm in: the reduced manifold must guard every vertex in contact (z <= 0).
+  // A dropped one is either under a kept point (within 1e-9) or over a triangle of kept points and
+  // no more than the allowance (a twentieth of the margin) below its plane, the first-order
+  // guarantee that a rigid motion drives it no deeper than them. A rock rocking on two corners kept
+  // a footprint point 8 mm up and dropped the other corner, 0.6 mm in.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(0, 1);
+  const double allowance = 0.05 * kMargin;
+  int spread = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<Vec3> v;
+    for (int i = 0; i < 24; ++i) v.push_back(Vec3(g(rng), g(rng), g(rng)).normalized().cwiseProduct(Vec3(0.17, 0.12, 0.09)));
+    const HullFaces faces = convex_hull_faces(v);
+    ASSERT_GE(faces.size(), 4);
+    const int k = static_cast<int>(u(rng) * faces.size());
+    const Vec3& p0 = v[faces.indices[faces.offsets[k]]];
+    const Vec3 n = (v[faces.indices[faces.offsets[k] + 1]] - p0).cross(v[faces.indices[faces.offsets[k] + 2]] - p0).normalized();
+    const double tilt = (1 + 5 * u(rng)) * kPi / 180, about = 2 * kPi * u(rng);
+    const Quat turn = Quat(Eigen::AngleAxisd(tilt, Vec3(std::cos(about), std::sin(about), 0))) *
+                      Quat::FromTwoVectors(n, -Vec3::UnitZ());
+    double lowest = INFINITY;
+    for (const Vec3& p : v) lowest = std::min(lowest, (turn * p).z());
+    Fixture f;
+    f.add(ground());
+    BodyDef b = hull(v);
+    b.orientation = turn;
+    b.position = Vec3(0.1, 0.1, -4e-4 - lowest);
+    f.add(b);
+    const auto& c = f.run_scene_poses();
+    std::vector<Vec3> kept;  // on the rock
+    for (const Contact& x : c) kept.push_back(x.point + 0.5 * x.distance * x.normal);
+    int touching = 0;
+    for (const Vec3& p : v) {
+      const Vec3 w = b.position + turn * p;
+      touching += w.z() <= -4e-4 + allowance;
+      if (w.z() > 0) continue;
+      bool held = false;
+      for (const Vec3& q : kept) held = held || (q - w).norm() <= 1e-9;
+      for (std::size_t i = 0; i < kept.size() && !held; ++i)
+        for (std::size_t j = i + 1; j < kept.size() && !held; ++j)
+          for (std::size_t l = j + 1; l < kept.size() && !held; ++l) {
+            const Vec3 &c0 = kept[i], &c1 = kept[j], &c2 = kept[l];
+            const double area = (c1 - c0).cross(c2 - c0).z();
+            if (std::abs(area) < 1e-12) continue;
+            const double s = (c1 - w).cross(c2 - w).z() / area, t = (c2 - w).cross(c0 - w).z() / area;
+            if (s < -1e-9 || t < -1e-9 || s + t > 1 + 1e-9) continue;
+            held = s * c0.z() + t * c1.z() + (1 - s - t) * c2.z() - w.z() <= allowance;
+          }
+      EXPECT_TRUE(held) << "trial " << trial << ": a vertex " << -1000 * w.z() << " mm in is not guarded";
+    }
+    spread += touching < 3;
+  }
+  EXPECT_GT(spread, 50);  // the footprints drawn from all points, not from three as deep
+}
+
 TEST(Collide, BoxOnBoxGivesCornersOfTheOverlap) {
   // Upper box overhangs the lower one in x and y; the overlap of the two faces is the rectangle
   // [0.1, 0.4] x [-0.2, 0.3] at z = 0.2.
