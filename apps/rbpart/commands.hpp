@@ -22,6 +22,11 @@ Run add_view(CLI::App& app);
 Run add_snapshot(CLI::App& app);
 Run add_bench(CLI::App& app);
 
+// Checks of numeric options whose errors name the bound: "--steps: must be at least 0 (got -3)".
+CLI::Validator at_least(double lo);
+CLI::Validator positive();
+CLI::Validator open_closed(double lo, double hi);  // lo < x <= hi
+
 // "key=value" strings from --set, split; throws InputError on a missing '='.
 std::vector<std::pair<std::string, std::string>> split_assignments(const std::vector<std::string>& sets);
 

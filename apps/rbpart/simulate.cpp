@@ -119,48 +119,48 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--scene", o->scene, "Built-in scene name (see `rbpart scenes`) or scene file (.json)")
       ->required();
   cmd->add_option("--set", o->sets, "Built-in scene parameter key=value (repeatable)");
-  cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(at_least(0));
+  cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(positive());
   cmd->add_option("--solver", o->solver, "BLCP solver (substructured needs --partitioner)")
       ->check(CLI::IsMember({"direct", "pgs", "substructured"}))
       ->capture_default_str();
   cmd->add_option("--threads", o->solver_params.threads, "Worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--sub-iterations", o->solver_params.substructured_max_iterations,
                   "Substructured: interface/sub-system iterations before the monolithic fallback")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--pgs-iterations", o->solver_params.pgs_iterations, "PGS sweeps per step")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--pgs-tolerance", o->solver_params.pgs_tolerance, "PGS stops when impulses change less")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--friction-passes", o->solver_params.friction_passes, "Outer passes for friction bounds")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--coupled-paths", o->solver_params.coupled_paths,
                   "Warm paths of the coupled friction step on islands of 3000+ rows")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--friction-tolerance", o->solver_params.friction_tolerance,
                   "Relative change of normal impulses that ends the friction passes")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--sigma-floor", o->step_params.sigma_floor,
                   "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--contact-margin", o->step_params.contact_margin,
                   "Contacts are generated up to this separation (m), handled speculatively")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--erp", o->step_params.erp, "Error reduction per step (Baumgarte), in (0, 1]")
-      ->check(CLI::Range(1e-9, 1.0))
+      ->check(open_closed(0, 1))
       ->capture_default_str();
   cmd->add_option("--slop", o->step_params.slop, "Penetration left uncorrected (m)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--stats", o->stats_path, "Per-step statistics as CSV");
   cmd->add_option("--state", o->state_path, "Final state as JSON");

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "support/cli_test.hpp"
 
@@ -75,6 +76,23 @@ TEST_F(Cli, UnknownOptionAndBadValues) {
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
   }
+}
+
+TEST_F(Cli, NumericOptionsNameTheirBound) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"--steps -3", "--steps: must be at least 0 (got -3)"},
+      {"--dt 0", "--dt: must be positive (got 0)"},
+      {"--erp 0", "--erp: must lie in (0, 1] (got 0)"},
+      {"--erp 1.5", "--erp: must lie in (0, 1] (got 1.5)"},
+      {"--coupled-paths 0", "--coupled-paths: must be positive (got 0)"},
+      {"--slop nan", "--slop: must be a number (got 'nan')"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const Result r = run("simulate --scene box_stack " + args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "rbpart: error: " + expect + "\n") << args;
+  }
+  EXPECT_EQ(run("simulate --scene box_stack --steps 1 --erp 1 -q").status, 0);
 }
 
 TEST_F(Cli, UnwritableOutputLeavesNothing) {
