@@ -3,6 +3,7 @@
 // 309-digit number, and its Range prints (0, 1] as "0.000000 to 1.000000".
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 #include "commands.hpp"
@@ -18,8 +19,7 @@ std::string shown(double x) {
 
 // A check that `ok` holds for the option's value; `what` completes "must ...", `brief` is shown in
 // --help.
-CLI::Validator numeric_check(const std::string& what, const std::string& brief, bool (*ok)(double, double, double),
-                             double lo, double hi) {
+CLI::Validator numeric_check(const std::string& what, const std::string& brief, std::function<bool(double)> ok) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         std::size_t used = 0;
@@ -30,7 +30,7 @@ CLI::Validator numeric_check(const std::string& what, const std::string& brief, 
           used = 0;
         }
         if (used != text.size() || !std::isfinite(x)) return "must be a number (got '" + text + "')";
-        return ok(x, lo, hi) ? std::string() : "must " + what + " (got " + text + ")";
+        return ok(x) ? std::string() : "must " + what + " (got " + text + ")";
       },
       brief);
 }
@@ -38,18 +38,16 @@ CLI::Validator numeric_check(const std::string& what, const std::string& brief, 
 }  // namespace
 
 CLI::Validator at_least(double lo) {
-  return numeric_check(
-      "be at least " + shown(lo), ">= " + shown(lo), [](double x, double l, double) { return x >= l; }, lo, 0);
+  return numeric_check("be at least " + shown(lo), ">= " + shown(lo), [lo](double x) { return x >= lo; });
 }
 
 CLI::Validator positive() {
-  return numeric_check("be positive", "> 0", [](double x, double, double) { return x > 0; }, 0, 0);
+  return numeric_check("be positive", "> 0", [](double x) { return x > 0; });
 }
 
 CLI::Validator open_closed(double lo, double hi) {
   const std::string interval = "(" + shown(lo) + ", " + shown(hi) + "]";
-  return numeric_check(
-      "lie in " + interval, "in " + interval, [](double x, double l, double h) { return x > l && x <= h; }, lo, hi);
+  return numeric_check("lie in " + interval, "in " + interval, [lo, hi](double x) { return x > lo && x <= hi; });
 }
 
 }  // namespace rbpart::cli
