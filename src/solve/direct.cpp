@@ -16,14 +16,12 @@
 
 namespace rbpart {
 
-namespace {
-
 // The backend for an island: dense Cholesky up to dense_max_rows rows; above, the body-space
 // factorisation, which is exact through the core's refinement and much cheaper than CHOLMOD on A
 // (bench/blcp_bench.cpp, warm solves: 1.9 ms vs 4.7 ms at 1000 rows, and A's factor grows with the
 // square of the contacts per body), or CHOLMOD on A itself when a row has no regularisation (the
 // Woodbury form divides by sigma).
-std::unique_ptr<BlcpMatrix> make_matrix(const IslandSystem& s, const SolverParams& params) {
+std::unique_ptr<BlcpMatrix> make_direct_matrix(const IslandSystem& s, const SolverParams& params) {
   if (s.rows <= params.dense_max_rows) {
     auto dense = std::make_unique<DenseBlcpMatrix>();
     build_dense(s, dense->matrix());
@@ -41,8 +39,6 @@ std::unique_ptr<BlcpMatrix> make_matrix(const IslandSystem& s, const SolverParam
   sparse->assign(std::move(a));
   return sparse;
 }
-
-}  // namespace
 
 BlcpSettings blcp_settings(const SolverParams& params) {
   BlcpSettings settings;
@@ -62,7 +58,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
     lambda[r] = rows.lambda[s.global_rows[r]];
     state[r] = rows.state[s.global_rows[r]];
   }
-  const std::unique_ptr<BlcpMatrix> a = make_matrix(s, params);
+  const std::unique_ptr<BlcpMatrix> a = make_direct_matrix(s, params);
 
   const BlcpSettings settings = blcp_settings(params);
   BlcpWorkspace ws;

@@ -1,14 +1,16 @@
 #pragma once
 // The monolithic direct solve of one island (direct.cpp, DESIGN.md §3), shared with the
-// substructured solver, which uses it for islands that are a single sub-system and as its counted
-// fallback when the interface/sub-system iteration hits its cap (DESIGN.md §7).
+// substructured solver, which uses it for islands that are a single sub-system, and its backend as
+// the counted fallback when the interface/sub-system iteration hits its cap (DESIGN.md §7).
 #include <rbpart/params.hpp>
 
 #include "assembly/rows.hpp"
 #include "solve/blcp.hpp"
+#include "solve/island_system.hpp"
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace rbpart {
@@ -22,6 +24,9 @@ struct IslandOutcome {
 
 // The BLCP core's settings from the solver's parameters (every solver's friction loop uses them).
 BlcpSettings blcp_settings(const SolverParams& params);
+
+// The monolithic solver's factorisation of an island's A (direct.cpp): dense, body-space or CHOLMOD.
+std::unique_ptr<BlcpMatrix> make_direct_matrix(const IslandSystem& s, const SolverParams& params);
 
 // Solves island `island` (friction outer loop around the fixed-bounds BLCP core), warm started from
 // rows.lambda/state, and writes the impulses, sets and final friction bounds back into `rows`.

@@ -13,6 +13,7 @@
 #include "solve/sub_island.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -43,13 +44,10 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
   for (int b = 0; b < s.bodies; ++b)
     part_of_body[b] = static_cast<int>(std::lower_bound(distinct.begin(), distinct.end(), ids[b]) - distinct.begin());
-  auto monolithic = [&] {
+  if (distinct.size() < 2 || !(s.sigma.array() > 0).all()) {
     const Timer timer;
     out.island = solve_island(rows, bodies, islands, island, local_row, params);
-    out.monolithic_ms += timer.ms();
-  };
-  if (distinct.size() < 2 || !(s.sigma.array() > 0).all()) {
-    monolithic();
+    out.monolithic_ms = timer.ms();
     out.wall_ms = wall.ms();
     out.sub.critical_ms = out.wall_ms;
     out.sub.other_ms = out.wall_ms - out.monolithic_ms;
@@ -69,17 +67,46 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   out.interface_bodies = sub.interface_bodies();
 
   const BlcpSettings settings = blcp_settings(params);
+  // The fallback: a fixed-bounds solve whose iteration hits the cap or fails is solved by the
+  // monolithic backend from the same warm start (solve_fixed leaves lambda and state as they were),
+  // and so is the rest of the step, coupled step included: the earlier passes' work is kept, and a
+  // loop that did not settle on one pass's bounds is not tried again on the next.
+  std::unique_ptr<BlcpMatrix> direct;
+  BlcpWorkspace direct_ws;
+  auto on_direct = [&](auto&& fn) {
+    const Timer timer;
+    if (!direct) direct = make_direct_matrix(s, params);
+    const bool solved = fn(*direct);
+    out.monolithic_ms += timer.ms();
+    return solved;
+  };
   CoupledWorkspace coupled;
   Eigen::VectorXd w, du;
   const FrictionPassResult passes = friction_passes(
       s.coupling(), s.diag, lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
-      [&] { return sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations); },
+      [&] {
+        if (!out.fallback) {
+          if (sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations)) return true;
+          out.fallback = true;
+        }
+        return on_direct([&](BlcpMatrix& a) {
+          const BlcpResult r = solve_blcp(a, s.q, s.lo, s.hi, lambda, state, settings, direct_ws);
+          out.island.iterations += r.iterations;
+          out.island.factorizations += r.factorizations;
+          out.island.newton = out.island.newton || r.newton;
+          return r.converged;
+        });
+      },
       [&]() -> const Eigen::VectorXd& {
         apply_a(s, lambda, du, w);
         w += s.q;
         return w;
       },
       [&] {
+        if (out.fallback)
+          return on_direct([&](BlcpMatrix& a) {
+            return coupled_friction_step(a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
+          });
         bool solved = false;
         sub.serial(kCoupledPhase, [&] {
           solved = coupled_friction_step(sub, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
@@ -88,18 +115,11 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
       });
   out.island.passes = passes.passes;
   out.island.unsettled = !passes.settled;
-
-  if (!passes.solved) {
-    // The cap was hit or a BLCP failed: the monolithic solve keeps the step correct. `rows` still
-    // holds the warm start.
-    out.fallback = true;
-    monolithic();
-  } else {
-    store_island_solution(s, lambda, state, rows);
-    out.island.residual = island_residual(s, lambda, du, w);
-  }
+  out.island.failed = !passes.solved;  // a BLCP of the monolithic backend failed, as it would in solve_direct
+  store_island_solution(s, lambda, state, rows);
+  out.island.residual = island_residual(s, lambda, du, w);
   out.wall_ms = wall.ms();
-  // The monolithic fallback is serial work after the substructured attempt.
+  // The monolithic fallback is serial work.
   out.sub = sub.stats(out.wall_ms - out.monolithic_ms);
   out.sub.critical_ms += out.monolithic_ms;
   return out;

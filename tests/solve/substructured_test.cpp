@@ -64,9 +64,13 @@ Partition explicit_partition(std::vector<int> part_of) {
 // The exact friction rule (friction_tolerance 0: passes settle only on round-off), so that both
 // solvers take the same path; at the default tolerance a pass whose mismatch sits near it may settle
 // in one solver and go on to the coupled step in the other.
+// Exact friction, and an iteration cap far above what any case needs (the default is tuned for
+// speed, not for these cold starts): the cases check that the iteration itself reaches the answer,
+// so a fallback, counted, is a failure of the iteration.
 SolverParams default_params() {
   SolverParams params;
   params.friction_tolerance = 0;
+  params.substructured_max_iterations = 100;
   return params;
 }
 
@@ -474,7 +478,7 @@ TEST(Substructured, IterationCapFallsBackToTheMonolithicSolve) {
   const SubstructuredReport capped = expect_same_as_direct(problem, bfs_partition(problem.graph, 3), params, "cap 1");
   EXPECT_EQ(capped.fallbacks, 1);
   const SubstructuredReport free =
-      expect_same_as_direct(problem, bfs_partition(problem.graph, 3), default_params(), "default cap");
+      expect_same_as_direct(problem, bfs_partition(problem.graph, 3), default_params(), "cap 100");
   EXPECT_EQ(free.fallbacks, 0);
   EXPECT_GT(free.loop_iterations, free.solve.friction_passes);
 }
