@@ -131,6 +131,10 @@ Run add_simulate(CLI::App& app) {
                   "Substructured: interface/sub-system iterations before the monolithic fallback")
       ->check(positive())
       ->capture_default_str();
+  cmd->add_option("--sub-halvings", o->solver_params.substructured_max_halvings,
+                  "Substructured: halved safeguard steps per BLCP before the monolithic fallback")
+      ->check(at_least(0))
+      ->capture_default_str();
   cmd->add_option("--pgs-iterations", o->solver_params.pgs_iterations, "PGS sweeps per step")
       ->check(positive())
       ->capture_default_str();

@@ -59,6 +59,12 @@ struct SolverParams {
   // (MIX+FM, n_max 32, 1 thread, `rbpart bench ... --every 10`) took 2.09x the monolithic time
   // with a cap of 30, 1.44x with 10, 1.27x with 5.
   int substructured_max_iterations = 5;
+  // Halved steps of the safeguard (DESIGN.md §7) allowed per BLCP before the same fallback. A full
+  // step that the safeguard rejects marks a loop far from its answer: on the first 150 steps of
+  // the Large Rock Pile (as above, cap 5) falling back at the first one took MIX+FM from 1.27x to
+  // 1.13x the monolithic time, MinDP from 1.68x to 1.35x. A large value keeps the descent method
+  // going to the answer, which the tests use.
+  int substructured_max_halvings = 0;
   int threads = 0;                 // 0: all hardware threads
 };
 

@@ -41,6 +41,7 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"pgs_iterations", integer(solver.pgs_iterations)},
       {"pgs_tolerance", real(solver.pgs_tolerance)},
       {"substructured_max_iterations", integer(solver.substructured_max_iterations)},
+      {"substructured_max_halvings", integer(solver.substructured_max_halvings)},
       {"threads", integer(solver.threads)},
   };
 }

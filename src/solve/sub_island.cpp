@@ -297,7 +297,7 @@ double SubstructuredIsland::objective(const Eigen::VectorXd& x, double& roundoff
 
 bool SubstructuredIsland::solve_fixed(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, Eigen::VectorXd& lambda,
                                       std::vector<RowState>& state, const BlcpSettings& settings,
-                                      int max_iterations) {
+                                      int max_iterations, int max_halvings) {
   const IslandSystem& s = *s_;
   // The parts refactor below: the island-level factor of the coupled step is void.
   invalidate();
@@ -329,6 +329,7 @@ bool SubstructuredIsland::solve_fixed(const Eigen::VectorXd& lo, const Eigen::Ve
   // phi and w_I at the accepted lambda_I; none before the first step, which is taken in full.
   bool accepted_any = false;
   double phi = 0;
+  int halvings = 0;
 
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
     ++loop_iterations_;
@@ -363,7 +364,7 @@ bool SubstructuredIsland::solve_fixed(const Eigen::VectorXd& lo, const Eigen::Ve
     step_i_ = lambda_i_ - current_i_;
     const double slope = accepted_any ? w_i_.dot(step_i_) : 0.0;
     for (double t = 1;; t *= 0.5) {
-      if (t < kMinStep) return false;
+      if (t < kMinStep || (t < 1 && ++halvings > max_halvings)) return false;
       if (t == 1) trial_i_ = lambda_i_;
       else trial_i_ = current_i_ + t * step_i_;
       if (!solve_parts(trial_i_)) return false;

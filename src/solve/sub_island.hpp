@@ -83,10 +83,12 @@ class SubstructuredIsland final : public BlcpMatrix {
   // Solves the fixed-bounds BLCP (A, s.q, lo, hi) of the island by the iteration of DESIGN.md §7,
   // warm started from lambda/state (island numbering), which receive the solution and its sets.
   // `settings.tolerance` is relative to max |s.q| as for the monolithic solve; every sub-problem
-  // uses the same absolute tolerance. False if an iteration's BLCP failed or `max_iterations`
-  // passed without the sets settling (lambda/state then unspecified).
+  // uses the same absolute tolerance. False if an iteration's BLCP failed, if `max_iterations`
+  // passed without the sets settling, or if the safeguard halved more than `max_halvings` steps;
+  // lambda/state are then left as they were.
   bool solve_fixed(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, Eigen::VectorXd& lambda,
-                   std::vector<RowState>& state, const BlcpSettings& settings, int max_iterations);
+                   std::vector<RowState>& state, const BlcpSettings& settings, int max_iterations,
+                   int max_halvings);
 
   // Runs fn() as serial work of `phase` (nested timed sections are subtracted).
   template <class Fn>

@@ -86,7 +86,9 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
       s.coupling(), s.diag, lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
       [&] {
         if (!out.fallback) {
-          if (sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations)) return true;
+          if (sub.solve_fixed(s.lo, s.hi, lambda, state, settings, params.substructured_max_iterations,
+                              params.substructured_max_halvings))
+            return true;
           out.fallback = true;
         }
         return on_direct([&](BlcpMatrix& a) {
