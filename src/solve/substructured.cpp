@@ -107,7 +107,11 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
       [&] {
         if (out.fallback)
           return on_direct([&](BlcpMatrix& a) {
-            return coupled_friction_step(a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
+            const bool solved = coupled_friction_step(a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
+            // Counted as solve_direct counts them (each pivot one Woodbury solve on the factor).
+            out.island.iterations += coupled.events;
+            out.island.factorizations += coupled.factorizations;
+            return solved;
           });
         bool solved = false;
         sub.serial(kCoupledPhase, [&] {

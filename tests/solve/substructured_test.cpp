@@ -63,10 +63,10 @@ Partition explicit_partition(std::vector<int> part_of) {
 
 // The exact friction rule (friction_tolerance 0: passes settle only on round-off), so that both
 // solvers take the same path; at the default tolerance a pass whose mismatch sits near it may settle
-// in one solver and go on to the coupled step in the other.
-// Exact friction, and an iteration cap and halving budget far above what any case needs (the
-// defaults are tuned for speed, not for these cold starts): the cases check that the iteration
-// itself reaches the answer, so a fallback, counted, is a failure of the iteration.
+// in one solver and go on to the coupled step in the other. The iteration cap and halving budget
+// are far above what any case needs (the defaults are tuned for speed, not for these cold starts):
+// the cases check that the iteration itself reaches the answer, so a fallback, counted, is a
+// failure of the iteration.
 SolverParams default_params() {
   SolverParams params;
   params.friction_tolerance = 0;
