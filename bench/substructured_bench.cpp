@@ -1,9 +1,10 @@
 // The substructured solver (DESIGN.md §7) against the monolithic direct solver on recorded step
 // problems of formed piles: rock_pile (200 rocks) and large_rock_pile (600 rocks, masses from
-// {10, 100, 1000} kg). Set-up, once per scene and untimed: the pile is formed by a World with PGS
-// (the direct solver is slow through the landing, and the problems timed are those of the formed
-// pile), then `kRecorded` consecutive steps are recorded, each warm started from the direct
-// solver's answer to the step before (as a World running the direct solver would warm start it).
+// {10, 100, 1000} kg). Set-up, once per scene and untimed: the scene runs `kFormed` steps with the
+// monolithic direct solver (as `rbpart bench` captures its trajectories, study/capture.hpp), and
+// every 10th of the last 100 steps is kept with the warm start the live solve started from, so the
+// problems timed are those a World solves once the pile has landed. The set-up takes about 40 s
+// for rock_pile and 4-6 min for large_rock_pile (its landing) on one core.
 // Every benchmark iteration solves every recorded problem once, from its warm start.
 //
 // Arguments: threads, then for the substructured solver the partitioner (MinDP, or MIX refined by
@@ -17,50 +18,39 @@
 #include "core/timer.hpp"
 #include "partition/partition.hpp"
 #include "scenes/scenes.hpp"
-#include "tests/solve/substructured_problems.hpp"
+#include "study/capture.hpp"
 
 #include <benchmark/benchmark.h>
-#include <rbpart/world.hpp>
 #include <tbb/global_control.h>
 
+#include <iterator>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace rbpart {
 namespace {
 
-constexpr int kRecorded = 10;
+constexpr int kFormed = 300, kEvery = 10, kRecorded = 10;
 
 enum Scene { kRockPile, kLargeRockPile };
 
-const std::vector<testing::StepProblem>& recorded(Scene scene) {
-  static std::map<Scene, std::vector<testing::StepProblem>> cache;
+const std::vector<StepProblem>& recorded(Scene scene) {
+  static std::map<Scene, std::vector<StepProblem>> cache;
   auto [it, inserted] = cache.try_emplace(scene);
   if (!inserted) return it->second;
-  SolverParams pgs;
-  pgs.kind = SolverKind::Pgs;
-  World world(make_builtin_scene(scene == kRockPile ? "rock_pile" : "large_rock_pile"), StepParams{}, pgs);
-  const int formed = 300;
-  for (int i = 1; i < formed; ++i) world.step();
-  std::vector<testing::StepProblem>& problems = it->second;
-  for (int k = 0; k < kRecorded; ++k) problems.push_back(testing::capture_step(world));
-  // Direct-solver warm starts, chained: step k+1 starts from the direct answer to step k.
-  Rows answer = problems[0].rows;
-  solve_direct(answer, problems[0].bodies, problems[0].islands, SolverParams{});
-  for (int k = 1; k < kRecorded; ++k) {
-    testing::warm_start_from(answer, problems[k].rows);
-    answer = problems[k].rows;
-    solve_direct(answer, problems[k].bodies, problems[k].islands, SolverParams{});
-  }
-  return problems;
+  Trajectory t = capture_trajectory(make_builtin_scene(scene == kRockPile ? "rock_pile" : "large_rock_pile"), kFormed,
+                                    kEvery, StepParams{}, SolverParams{});
+  it->second.assign(std::make_move_iterator(t.steps.end() - kRecorded), std::make_move_iterator(t.steps.end()));
+  return it->second;
 }
 
 void BM_Direct(benchmark::State& state, Scene scene) {
-  const std::vector<testing::StepProblem>& problems = recorded(scene);
+  const std::vector<StepProblem>& problems = recorded(scene);
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(0));
   double ms = 0, residual = 0, rows = 0;
   for (auto _ : state)
-    for (const testing::StepProblem& p : problems) {
+    for (const StepProblem& p : problems) {
       Rows r = p.rows;
       const Timer timer;
       const SolveReport report = solve_direct(r, p.bodies, p.islands, SolverParams{});
@@ -75,7 +65,7 @@ void BM_Direct(benchmark::State& state, Scene scene) {
 }
 
 void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind partitioner, RefinerKind refiner) {
-  const std::vector<testing::StepProblem>& problems = recorded(scene);
+  const std::vector<StepProblem>& problems = recorded(scene);
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(0));
   PartitionParams pp;
   pp.partitioner = partitioner;
@@ -90,7 +80,7 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
   double ms = 0, residual = 0;
   for (auto _ : state)
     for (std::size_t k = 0; k < problems.size(); ++k) {
-      const testing::StepProblem& p = problems[k];
+      const StepProblem& p = problems[k];
       Rows r = p.rows;
       const Timer timer;
       const SubstructuredReport report = solve_substructured(r, p.bodies, p.islands, p.graph, partitions[k], SolverParams{});
