@@ -66,19 +66,11 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
   IslandOutcome out;
   const FrictionPassResult passes = friction_passes(
       s.coupling(), s.diag, lambda, state, s.lo, s.hi, params.friction_passes, params.friction_tolerance, previous,
-      [&] {
-        const BlcpResult r = solve_blcp(*a, s.q, s.lo, s.hi, lambda, state, settings, ws);
-        out.iterations += r.iterations;
-        out.factorizations += r.factorizations;
-        out.newton = out.newton || r.newton;
-        return r.converged;
-      },
+      [&] { return out.count(solve_blcp(*a, s.q, s.lo, s.hi, lambda, state, settings, ws)); },
       [&]() -> const Eigen::VectorXd& { return ws.w; },
       [&] { return coupled_friction_step(*a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled); });
   out.passes = passes.passes;
-  // The coupled step's pivots are iterations (each one Woodbury solve on the factor of A_FF).
-  out.iterations += coupled.events;
-  out.factorizations += coupled.factorizations;
+  out.count(coupled);
   out.failed = !passes.solved;
   out.unsettled = !passes.settled;
 

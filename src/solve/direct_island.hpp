@@ -1,7 +1,7 @@
 #pragma once
 // The monolithic direct solve of one island (direct.cpp, DESIGN.md §3), shared with the
 // substructured solver, which uses it for islands that are a single sub-system, and its backend as
-// the counted fallback when the interface/sub-system iteration hits its cap (DESIGN.md §7).
+// the counted fallback when the interface/sub-system iteration does not settle (DESIGN.md §7).
 #include <rbpart/params.hpp>
 
 #include "assembly/rows.hpp"
@@ -20,6 +20,20 @@ struct IslandOutcome {
   bool newton = false, failed = false;
   bool unsettled = false;  // the friction loop ended above its tolerance (impulses approximate)
   double residual = 0;
+
+  // Counts a fixed-bounds solve on the monolithic backend; returns whether it converged.
+  bool count(const BlcpResult& r) {
+    iterations += r.iterations;
+    factorizations += r.factorizations;
+    newton = newton || r.newton;
+    return r.converged;
+  }
+  // Counts the coupled step's pivots as iterations (each one Woodbury solve on the factor of A_FF)
+  // and its factorisations, over all calls on `ws`.
+  void count(const CoupledWorkspace& ws) {
+    iterations += ws.events;
+    factorizations += ws.factorizations;
+  }
 };
 
 // The BLCP core's settings from the solver's parameters (every solver's friction loop uses them).

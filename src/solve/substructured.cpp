@@ -67,10 +67,11 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   out.interface_bodies = sub.interface_bodies();
 
   const BlcpSettings settings = blcp_settings(params);
-  // The fallback: a fixed-bounds solve whose iteration hits the cap or fails is solved by the
-  // monolithic backend from the same warm start (solve_fixed leaves lambda and state as they were),
-  // and so is the rest of the step, coupled step included: the earlier passes' work is kept, and a
-  // loop that did not settle on one pass's bounds is not tried again on the next.
+  // The fallback: a fixed-bounds solve whose iteration does not settle (iteration cap, halving
+  // limit) or fails is solved by the monolithic backend from the same warm start (solve_fixed
+  // leaves lambda and state as they were), and so is the rest of the step, coupled step included:
+  // the earlier passes' work is kept, and a loop that did not settle on one pass's bounds is not
+  // tried again on the next.
   std::unique_ptr<BlcpMatrix> direct;
   BlcpWorkspace direct_ws;
   auto on_direct = [&](auto&& fn) {
@@ -92,11 +93,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
           out.fallback = true;
         }
         return on_direct([&](BlcpMatrix& a) {
-          const BlcpResult r = solve_blcp(a, s.q, s.lo, s.hi, lambda, state, settings, direct_ws);
-          out.island.iterations += r.iterations;
-          out.island.factorizations += r.factorizations;
-          out.island.newton = out.island.newton || r.newton;
-          return r.converged;
+          return out.island.count(solve_blcp(a, s.q, s.lo, s.hi, lambda, state, settings, direct_ws));
         });
       },
       [&]() -> const Eigen::VectorXd& {
@@ -108,9 +105,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
         if (out.fallback)
           return on_direct([&](BlcpMatrix& a) {
             const bool solved = coupled_friction_step(a, s.q, s.lo, s.hi, s.coupling(), lambda, state, settings, coupled);
-            // Counted as solve_direct counts them (each pivot one Woodbury solve on the factor).
-            out.island.iterations += coupled.events;
-            out.island.factorizations += coupled.factorizations;
+            out.island.count(coupled);
             return solved;
           });
         bool solved = false;
