@@ -48,6 +48,7 @@ int run_simulate(const Options& o) {
   SolverParams solver_params = o.solver_params;
   solver_params.kind = o.solver == "pgs"             ? SolverKind::Pgs
                        : o.solver == "substructured" ? SolverKind::Substructured
+                       : o.solver == "newton"        ? SolverKind::Newton
                                                      : SolverKind::Direct;
 
   World world(scene, o.step_params, solver_params, partition_params);
@@ -121,11 +122,16 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--set", o->sets, "Built-in scene parameter key=value (repeatable)");
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(at_least(0));
   cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(positive());
-  cmd->add_option("--solver", o->solver, "BLCP solver (substructured needs --partitioner)")
-      ->check(CLI::IsMember({"direct", "pgs", "substructured"}))
+  cmd->add_option("--solver", o->solver,
+                  "BLCP solver (substructured needs --partitioner; newton: the one solver under construction)")
+      ->check(CLI::IsMember({"direct", "pgs", "substructured", "newton"}))
       ->capture_default_str();
   cmd->add_option("--threads", o->solver_params.threads, "Worker threads (0: all cores)")
       ->check(at_least(0))
+      ->capture_default_str();
+  cmd->add_option("--max-factorizations", o->solver_params.max_factorizations,
+                  "Newton solver: factorisations per island and step (the budget)")
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--sub-iterations", o->solver_params.substructured_max_iterations,
                   "Substructured: interface/sub-system iterations before the monolithic fallback")

@@ -5,7 +5,7 @@
 
 namespace rbpart {
 
-enum class SolverKind { Direct, Pgs, Substructured };
+enum class SolverKind { Direct, Pgs, Substructured, Newton };
 
 struct StepParams {
   // Stabilisation (DESIGN.md §2): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.
@@ -31,6 +31,11 @@ struct StepParams {
 
 struct SolverParams {
   SolverKind kind = SolverKind::Direct;
+  // Newton solver (--solver newton, solve/newton.hpp): the budget (DESIGN.md §3): factorisations per island and step; past it the
+  // iterate of least residual is kept and the step counted unsettled.
+  int max_factorizations = 40;
+  // Islands of at most this many bodies factor their body-space system dense, larger ones sparse.
+  int dense_max_bodies = 8;
   // Direct (block principal pivoting, DESIGN.md §3).
   int dense_max_rows = 300;        // islands up to this many rows use dense Cholesky, larger CHOLMOD
   int max_pivot_iterations = 500;  // per BLCP solve

@@ -12,6 +12,7 @@ const char* solver_name(SolverKind kind) {
     case SolverKind::Direct: return "direct";
     case SolverKind::Pgs: return "pgs";
     case SolverKind::Substructured: return "substructured";
+    case SolverKind::Newton: return "newton";
   }
   return "unknown";
 }
@@ -32,6 +33,8 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"projection_depth", real(step.projection_depth)},
       {"projection_turn", real(step.projection_turn)},
       {"solver", solver_name(solver.kind)},
+      {"max_factorizations", integer(solver.max_factorizations)},
+      {"dense_max_bodies", integer(solver.dense_max_bodies)},
       {"dense_max_rows", integer(solver.dense_max_rows)},
       {"max_pivot_iterations", integer(solver.max_pivot_iterations)},
       {"murty_after", integer(solver.murty_after)},

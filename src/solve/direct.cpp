@@ -84,12 +84,7 @@ IslandOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& isla
 SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   const std::size_t count = islands.count();
-  // Largest islands first, so that one big island does not start last on a busy thread.
-  std::vector<int> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return islands.row_offset[x + 1] - islands.row_offset[x] > islands.row_offset[y + 1] - islands.row_offset[y];
-  });
+  const std::vector<int> order = largest_islands_first(islands);
   std::vector<IslandOutcome> outcome(count);
   parallel_for_each(count, [&](std::size_t t) {
     const int i = order[t];

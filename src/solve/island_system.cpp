@@ -1,6 +1,7 @@
 #include "solve/island_system.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace rbpart {
 
@@ -71,6 +72,15 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
   for (int r = 0; r < rows; ++r)
     for (int slot = 0; slot < 2; ++slot)
       if (body[r][slot] >= 0) body_slots[fill[body[r][slot]]++] = 2 * r + slot;
+}
+
+std::vector<int> largest_islands_first(const Islands& islands) {
+  std::vector<int> order(islands.count());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return islands.row_offset[x + 1] - islands.row_offset[x] > islands.row_offset[y + 1] - islands.row_offset[y];
+  });
+  return order;
 }
 
 std::vector<int> local_row_index(const Rows& rows, const Islands& islands) {

@@ -52,6 +52,10 @@ struct LowerCsc {
 void build_dense(const IslandSystem& s, Eigen::MatrixXd& a);
 void build_lower_csc(const IslandSystem& s, LowerCsc& a);
 
+// Island indices by decreasing row count (ties by index), so that one big island does not start
+// last on a busy thread when islands are solved in parallel.
+std::vector<int> largest_islands_first(const Islands& islands);
+
 // Local index of every row within its island (-1 for rows in no island), for IslandSystem::gather.
 std::vector<int> local_row_index(const Rows& rows, const Islands& islands);
 

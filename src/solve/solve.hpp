@@ -17,11 +17,17 @@ struct SolveReport {
   int failures = 0;          // islands whose BLCP did not converge within the caps
   int unsettled = 0;         // islands whose friction loop ended above friction_tolerance
   double residual = 0;       // max scaled natural-map residual over all rows (DESIGN.md §3)
+  double factor_ms = 0;      // time in factorisations, summed over islands (Newton solver)
 };
 
 // Monolithic direct solver: block principal pivoting per island (projected Newton when it stalls), dense Cholesky for small islands,
 // CHOLMOD for large ones; islands in parallel.
 SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
+
+// The Newton solver on the coupled problem (solve/newton.hpp) with the monolithic body-space
+// backend (solve/monolithic.hpp); islands in parallel. `--solver newton`, under construction: it is
+// to replace solve_direct (see docs/pipeline.md for its measured state).
+SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
 
 // Projected Gauss-Seidel on the same rows (the iterative baseline).
 SolveReport solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);

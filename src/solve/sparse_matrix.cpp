@@ -1,129 +1,12 @@
 #include "solve/sparse_matrix.hpp"
 
-#include <dlfcn.h>
-#include <suitesparse/cholmod.h>
+#include "solve/sparse_factor.hpp"
 
 #include <algorithm>
 #include <mutex>
 #include <stdexcept>
 
 namespace rbpart {
-
-// Debian's CHOLMOD is built with OpenMP and a fixed team size: each supernode's assembly wakes the
-// team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
-// of the direct solver's time on a forming 100-rock pile (perf) - and they compete with the TBB
-// workers that already run islands and sub-systems in parallel. So its parallel regions get one
-// thread, and so does a threaded OpenBLAS.
-//
-// CHOLMOD's BLAS calls come from several TBB workers at once when islands are solved in parallel.
-// A single-threaded OpenBLAS (Debian's libopenblas0-serial) has no locks: concurrent calls share
-// its packing buffers and corrupt each other's results - two 60-step runs of the 200-rock pile at
-// 2 threads parted at steps 36-40 - so with it every factorisation and solve holds one process-wide
-// lock. Its pthreads build (what scripts/install_deps.sh installs) locks its buffers itself; its
-// OpenMP build is not trusted with non-OpenMP callers. The runtimes are looked up rather than
-// linked: another BLAS, or a CHOLMOD without OpenMP, has none of these symbols.
-static bool blas_needs_lock() {
-  static const bool lock = [] {
-    using SetInt = void (*)(int);
-    using GetInt = int (*)();
-    if (auto set_levels = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
-      set_levels(0);
-    const auto openblas_parallel = reinterpret_cast<GetInt>(dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
-    if (!openblas_parallel) return false;
-    if (auto set_threads = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-      set_threads(1);
-    return openblas_parallel() != 1;  // 0: single-threaded, 1: pthreads, 2: OpenMP
-  }();
-  return lock;
-}
-
-// Holds the process-wide BLAS lock if the BLAS needs one, else nothing.
-static std::unique_lock<std::mutex> blas_guard() {
-  static std::mutex m;
-  return blas_needs_lock() ? std::unique_lock<std::mutex>(m) : std::unique_lock<std::mutex>();
-}
-
-// One CHOLMOD supernodal Cholesky factorisation of a fixed-pattern symmetric matrix whose lower
-// triangle lives in caller-owned arrays: analyse once, refactor and solve many times, reusing the
-// factor's storage and the solve workspaces.
-class CholmodFactor {
- public:
-  CholmodFactor() {
-    blas_needs_lock();  // configures the runtimes before the first call
-    cholmod_start(&c_);
-    c_.supernodal = CHOLMOD_SUPERNODAL;
-    // AMD only (skips CHOLMOD's trial of METIS: the analysis runs every step), and coarser relaxed
-    // supernode amalgamation than the defaults {4, 16, 48}: the factors here are small, and fewer,
-    // larger dense blocks beat the BLAS call overhead (measured ~15% on 200-body piles).
-    c_.nmethods = 1;
-    c_.method[0].ordering = CHOLMOD_AMD;
-    c_.postorder = true;
-    c_.nrelax[0] = 16;
-    c_.nrelax[1] = 64;
-    c_.nrelax[2] = 128;
-    c_.zrelax[0] = 0.8;
-    c_.zrelax[1] = 0.3;
-    c_.zrelax[2] = 0.1;
-    c_.quick_return_if_not_posdef = true;
-    c_.print = 0;  // a non-positive-definite A_FF is reported through the return value
-  }
-  ~CholmodFactor() {
-    cholmod_free_factor(&l_, &c_);
-    cholmod_free_dense(&x_, &c_);
-    cholmod_free_dense(&y_, &c_);
-    cholmod_free_dense(&e_, &c_);
-    cholmod_finish(&c_);
-  }
-  CholmodFactor(const CholmodFactor&) = delete;
-  CholmodFactor& operator=(const CholmodFactor&) = delete;
-
-  // Symbolic analysis of the pattern (values are not read).
-  void analyze(const LowerCsc& pattern, double* values) {
-    cholmod_free_factor(&l_, &c_);
-    a_ = cholmod_sparse{};
-    a_.nrow = a_.ncol = pattern.n;
-    a_.nzmax = pattern.rowind.size();
-    a_.p = const_cast<int*>(pattern.colptr.data());
-    a_.i = const_cast<int*>(pattern.rowind.data());
-    a_.x = values;
-    a_.stype = -1;
-    a_.itype = CHOLMOD_INT;
-    a_.xtype = CHOLMOD_REAL;
-    a_.dtype = CHOLMOD_DOUBLE;
-    a_.sorted = true;
-    a_.packed = true;
-    l_ = cholmod_analyze(&a_, &c_);
-    if (!l_) throw std::runtime_error("CHOLMOD analysis failed");
-    b_ = cholmod_dense{};
-    b_.nrow = b_.d = b_.nzmax = pattern.n;
-    b_.ncol = 1;
-    b_.xtype = CHOLMOD_REAL;
-    b_.dtype = CHOLMOD_DOUBLE;
-  }
-
-  // Numeric factorisation of the current values; false if not positive definite.
-  bool factorize() {
-    const std::unique_lock<std::mutex> hold = blas_guard();
-    cholmod_factorize(&a_, l_, &c_);
-    return c_.status == CHOLMOD_OK && l_->minor == l_->n;
-  }
-
-  // x <- A^-1 x.
-  void solve(double* x) {
-    b_.x = x;
-    const std::unique_lock<std::mutex> hold = blas_guard();
-    if (!cholmod_solve2(CHOLMOD_A, l_, &b_, nullptr, &x_, nullptr, &y_, &e_, &c_))
-      throw std::runtime_error("CHOLMOD solve failed");
-    std::copy_n(static_cast<const double*>(x_->x), l_->n, x);
-  }
-
- private:
-  cholmod_common c_;
-  cholmod_sparse a_{};
-  cholmod_dense b_{};
-  cholmod_factor* l_ = nullptr;
-  cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
-};
 
 // --- SparseBlcpMatrix ------------------------------------------------------------------------------
 
@@ -136,7 +19,7 @@ void SparseBlcpMatrix::assign(LowerCsc a) {
   diag_.resize(a_.n);
   for (int c = 0; c < a_.n; ++c) diag_[c] = a_.values[a_.colptr[c]];  // rows sorted: diagonal first
   rhs_.resize(a_.n);
-  chol_->analyze(a_, masked_.data());
+  chol_->analyze({a_.n, a_.colptr.data(), a_.rowind.data(), masked_.data()});
   invalidate();
 }
 
@@ -219,7 +102,7 @@ void BodySpaceBlcpMatrix::assign(const IslandSystem& s) {
   mass_ = body_masses(s);
   g_.resize(6 * nb);
   du_.resize(6 * nb);
-  chol_->analyze(n_, n_.values.data());
+  chol_->analyze({n_.n, n_.colptr.data(), n_.rowind.data(), n_.values.data()});
   tied_.assign(s);
   invalidate();
 }

@@ -15,13 +15,13 @@
 //   exact A (multiply()) is what makes its answers exact. Needs sigma_j > 0 on every row.
 #include "solve/blcp.hpp"
 #include "solve/island_system.hpp"
+#include "solve/sparse_factor.hpp"
 #include "solve/tied_factor.hpp"
 
 #include <memory>
 
 namespace rbpart {
 
-class CholmodFactor;
 
 class SparseBlcpMatrix final : public BlcpMatrix {
  public:

@@ -64,6 +64,9 @@ struct World::Impl {
         collider(scene, sp.contact_margin), projection_collider(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
+    // The Newton solver's body-space systems divide by every row's regularisation.
+    if (solver_params.kind == SolverKind::Newton && !(step_params.sigma_floor > 0))
+      throw InputError("the newton solver needs --sigma-floor > 0");
     if (solver_params.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(solver_params.threads));
@@ -158,6 +161,10 @@ struct World::Impl {
     switch (solver_params.kind) {
       case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
       case SolverKind::Direct: report = solve_direct(rows, bodies, islands, solver_params); break;
+      case SolverKind::Newton:
+        report = solve_newton_direct(rows, bodies, islands, solver_params);
+        s.factor_ms = report.factor_ms;
+        break;
       case SolverKind::Substructured: {
         const SubstructuredReport sub =
             solve_substructured(rows, bodies, islands, graph_, partition_, solver_params);

@@ -128,7 +128,8 @@ TEST(RunParameters, EveryParameterByNameAndExact) {
   std::map<std::string, std::string> by_name;
   for (const auto& [name, value] : run_parameters(step, solver)) by_name[name] = value;
   for (const char* name : {"erp", "slop", "sigma_floor", "sliding_velocity_eps", "contact_margin",
-                           "joint_projection_iterations", "joint_tolerance", "solver", "dense_max_rows",
+                           "joint_projection_iterations", "joint_tolerance", "solver", "max_factorizations",
+                           "dense_max_bodies", "dense_max_rows",
                            "max_pivot_iterations", "murty_after", "friction_passes", "friction_tolerance",
                            "pgs_iterations", "pgs_tolerance", "threads"})
     EXPECT_EQ(by_name.count(name), 1u) << name;

@@ -1,0 +1,181 @@
+#include "solve/sparse_factor.hpp"
+
+#include <dlfcn.h>
+#include <suitesparse/cholmod.h>
+#include <suitesparse/klu.h>
+
+#include <algorithm>
+#include <mutex>
+#include <stdexcept>
+
+namespace rbpart {
+
+// Debian's CHOLMOD is built with OpenMP and a fixed team size: each supernode's assembly wakes the
+// team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
+// of the direct solver's time on a forming 100-rock pile (perf) - and they compete with the TBB
+// workers that already run islands and sub-systems in parallel. So its parallel regions get one
+// thread, and so does a threaded OpenBLAS.
+//
+// CHOLMOD's BLAS calls come from several TBB workers at once when islands are solved in parallel.
+// A single-threaded OpenBLAS (Debian's libopenblas0-serial) has no locks: concurrent calls share
+// its packing buffers and corrupt each other's results - two 60-step runs of the 200-rock pile at
+// 2 threads parted at steps 36-40 - so with it every factorisation and solve holds one process-wide
+// lock. Its pthreads build (what scripts/install_deps.sh installs) locks its buffers itself; its
+// OpenMP build is not trusted with non-OpenMP callers. The runtimes are looked up rather than
+// linked: another BLAS, or a CHOLMOD without OpenMP, has none of these symbols.
+static bool blas_needs_lock() {
+  static const bool lock = [] {
+    using SetInt = void (*)(int);
+    using GetInt = int (*)();
+    if (auto set_levels = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
+      set_levels(0);
+    const auto openblas_parallel = reinterpret_cast<GetInt>(dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
+    if (!openblas_parallel) return false;
+    if (auto set_threads = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set_threads(1);
+    return openblas_parallel() != 1;  // 0: single-threaded, 1: pthreads, 2: OpenMP
+  }();
+  return lock;
+}
+
+// Holds the process-wide BLAS lock if the BLAS needs one, else nothing.
+static std::unique_lock<std::mutex> blas_guard() {
+  static std::mutex m;
+  return blas_needs_lock() ? std::unique_lock<std::mutex>(m) : std::unique_lock<std::mutex>();
+}
+
+// --- CHOLMOD ---------------------------------------------------------------------------------------
+
+struct CholmodFactor::Impl {
+  cholmod_common c;
+  cholmod_sparse a{};
+  cholmod_dense b{};
+  cholmod_factor* l = nullptr;
+  cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+};
+
+CholmodFactor::CholmodFactor() : impl_(std::make_unique<Impl>()) {
+  blas_needs_lock();  // configures the runtimes before the first call
+  cholmod_common& c = impl_->c;
+  cholmod_start(&c);
+  c.supernodal = CHOLMOD_SUPERNODAL;
+  // AMD only (skips CHOLMOD's trial of METIS: the analysis runs every step), and coarser relaxed
+  // supernode amalgamation than the defaults {4, 16, 48}: the factors here are small, and fewer,
+  // larger dense blocks beat the BLAS call overhead (measured ~15% on 200-body piles).
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_AMD;
+  c.postorder = true;
+  c.nrelax[0] = 16;
+  c.nrelax[1] = 64;
+  c.nrelax[2] = 128;
+  c.zrelax[0] = 0.8;
+  c.zrelax[1] = 0.3;
+  c.zrelax[2] = 0.1;
+  c.quick_return_if_not_posdef = true;
+  c.print = 0;  // a matrix that is not positive definite is reported through the return value
+}
+
+CholmodFactor::~CholmodFactor() {
+  Impl& m = *impl_;
+  cholmod_free_factor(&m.l, &m.c);
+  cholmod_free_dense(&m.x, &m.c);
+  cholmod_free_dense(&m.y, &m.c);
+  cholmod_free_dense(&m.e, &m.c);
+  cholmod_finish(&m.c);
+}
+
+void CholmodFactor::analyze(const CscView& view) {
+  Impl& m = *impl_;
+  cholmod_free_factor(&m.l, &m.c);
+  m.a = cholmod_sparse{};
+  m.a.nrow = m.a.ncol = view.n;
+  m.a.nzmax = view.colptr[view.n];
+  m.a.p = const_cast<int*>(view.colptr);
+  m.a.i = const_cast<int*>(view.rowind);
+  m.a.x = const_cast<double*>(view.values);
+  m.a.stype = -1;
+  m.a.itype = CHOLMOD_INT;
+  m.a.xtype = CHOLMOD_REAL;
+  m.a.dtype = CHOLMOD_DOUBLE;
+  m.a.sorted = true;
+  m.a.packed = true;
+  m.l = cholmod_analyze(&m.a, &m.c);
+  if (!m.l) throw std::runtime_error("CHOLMOD analysis failed");
+  m.b = cholmod_dense{};
+  m.b.nrow = m.b.d = m.b.nzmax = view.n;
+  m.b.ncol = 1;
+  m.b.xtype = CHOLMOD_REAL;
+  m.b.dtype = CHOLMOD_DOUBLE;
+}
+
+bool CholmodFactor::factorize() {
+  Impl& m = *impl_;
+  const std::unique_lock<std::mutex> hold = blas_guard();
+  cholmod_factorize(&m.a, m.l, &m.c);
+  return m.c.status == CHOLMOD_OK && m.l->minor == m.l->n;
+}
+
+void CholmodFactor::solve(double* x) {
+  Impl& m = *impl_;
+  m.b.x = x;
+  const std::unique_lock<std::mutex> hold = blas_guard();
+  if (!cholmod_solve2(CHOLMOD_A, m.l, &m.b, nullptr, &m.x, nullptr, &m.y, &m.e, &m.c))
+    throw std::runtime_error("CHOLMOD solve failed");
+  std::copy_n(static_cast<const double*>(m.x->x), m.l->n, x);
+}
+
+// --- KLU -------------------------------------------------------------------------------------------
+
+struct KluFactor::Impl {
+  klu_common c;
+  CscView a;
+  klu_symbolic* symbolic = nullptr;
+  klu_numeric* numeric = nullptr;
+  double full_rcond = 0;  // crude reciprocal condition of the last factorisation with pivoting
+};
+
+KluFactor::KluFactor() : impl_(std::make_unique<Impl>()) { klu_defaults(&impl_->c); }
+
+KluFactor::~KluFactor() {
+  Impl& m = *impl_;
+  klu_free_numeric(&m.numeric, &m.c);
+  klu_free_symbolic(&m.symbolic, &m.c);
+}
+
+void KluFactor::analyze(const CscView& view) {
+  Impl& m = *impl_;
+  klu_free_numeric(&m.numeric, &m.c);
+  klu_free_symbolic(&m.symbolic, &m.c);
+  m.a = view;
+  m.symbolic = klu_analyze(view.n, const_cast<int*>(view.colptr), const_cast<int*>(view.rowind), &m.c);
+  if (!m.symbolic) throw std::runtime_error("KLU analysis failed");
+}
+
+bool KluFactor::factorize() {
+  Impl& m = *impl_;
+  int* p = const_cast<int*>(m.a.colptr);
+  int* i = const_cast<int*>(m.a.rowind);
+  double* x = const_cast<double*>(m.a.values);
+  // Later factorisations of a Newton solve reuse the pivot order of the first (klu_refactor: no
+  // pivot search, several times faster); if the reused pivots lose three digits of the crude
+  // condition estimate against the last pivoted factorisation, it pivots afresh.
+  if (m.numeric && klu_refactor(p, i, x, m.symbolic, m.numeric, &m.c) && klu_rcond(m.symbolic, m.numeric, &m.c) &&
+      m.c.rcond >= 1e-3 * m.full_rcond)
+    return true;
+  klu_free_numeric(&m.numeric, &m.c);
+  m.numeric = klu_factor(p, i, x, m.symbolic, &m.c);
+  if (!m.numeric || m.c.status != KLU_OK) {
+    klu_free_numeric(&m.numeric, &m.c);
+    return false;
+  }
+  klu_rcond(m.symbolic, m.numeric, &m.c);
+  m.full_rcond = m.c.rcond;
+  return m.c.rcond > 0;
+}
+
+void KluFactor::solve(double* x) {
+  Impl& m = *impl_;
+  if (!m.numeric || !klu_solve(m.symbolic, m.numeric, m.a.n, 1, x, &m.c)) throw std::runtime_error("KLU solve failed");
+}
+
+}  // namespace rbpart
