@@ -37,6 +37,17 @@ void velocities(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::Vec
   w += s.q;
 }
 
+// Normals and joint rows onto [lo, hi], then friction onto the box of its projected normal.
+void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda) {
+  for (int j = 0; j < s.rows; ++j)
+    if (s.normal_of[j] < 0) lambda[j] = std::clamp(lambda[j], s.lo[j], s.hi[j]);
+  for (int j = 0; j < s.rows; ++j)
+    if (s.normal_of[j] >= 0) {
+      const double bound = s.mu[j] * std::max(0.0, lambda[s.normal_of[j]]);
+      lambda[j] = std::clamp(lambda[j], -bound, bound);
+    }
+}
+
 // The Newton state at (lambda, w): each row's equation and right-hand side, and its RowState (the
 // warm start the step leaves for the next one). With `warm`, rows free there stay free and the
 // friction rows keep their tie; clamped rows follow the natural map (a new contact, stored at 0,
@@ -137,14 +148,26 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   for (int j = 0; j < s.rows; ++j)
     if (!std::isfinite(lambda[j])) lambda[j] = 0;
   const double scale = std::max(max_abs(s.q), 1e-12);
+  // The answer is the admissible point of least residual: each iterate projected onto its bounds.
+  result.residual = std::numeric_limits<double>::infinity();
+  const auto keep_if_better = [&] {
+    ws.trial = lambda;
+    project_onto_bounds(s, ws.trial);
+    velocities(s, ws.trial, ws.du, ws.trial_w);
+    scaled_natural_map(s, ws.trial, ws.trial_w, ws.trial_fw);
+    const double r = residual_of(ws.trial_fw, scale);
+    if (ws.best.size() == 0 || r < result.residual) {
+      result.residual = r;
+      ws.best = ws.trial;
+    }
+  };
+  ws.best.resize(0);
+  keep_if_better();
   velocities(s, lambda, ws.du, ws.w);
   scaled_natural_map(s, lambda, ws.w, ws.fw);
-  double residual = residual_of(ws.fw, scale);
-  ws.best = lambda;
-  result.residual = residual;
   double rho = 0;
   bool warm = true;
-  while (residual > kSettledResidual && result.factorizations < max_factorizations) {
+  while (result.residual > kSettledResidual && result.factorizations < max_factorizations) {
     choose_piece(s, lambda, ws.w, warm ? &state : nullptr, rho, ws);
     warm = false;
     ++result.iterations;
@@ -189,17 +212,11 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     lambda = ws.trial;
     velocities(s, lambda, ws.du, ws.w);
     scaled_natural_map(s, lambda, ws.w, ws.fw);
-    residual = residual_of(ws.fw, scale);
-    if (residual < result.residual) {
-      result.residual = residual;
-      ws.best = lambda;
-    }
+    keep_if_better();
     if (alpha == 1) rho = rho < 1e-9 ? 0 : 0.1 * rho;
   }
-  if (residual > result.residual) {
-    lambda = ws.best;
-    velocities(s, lambda, ws.du, ws.w);
-  }
+  lambda = ws.best;
+  velocities(s, lambda, ws.du, ws.w);
   choose_piece(s, lambda, ws.w, nullptr, 0, ws);
   state = ws.piece_state;
   result.settled = result.residual <= kSettledResidual;

@@ -17,8 +17,12 @@
 //      conditioned system that still converge to the same solution (proximal point). rho grows
 //      tenfold on every failure and falls tenfold on every full step.
 //
-// It stops when the residual max_j A_jj |F_j| / max_j |q_j| is at most kSettledResidual, or after
-// max_factorizations factorisations (the budget), keeping the iterate of least residual.
+// The answer is always admissible: every iterate is projected onto its bounds (normals and joint
+// limits, then friction onto the box of its projected normal), and the projected point of least
+// residual is kept (an iterate's free normals can be negative; applying one would pull bodies
+// together, and projecting only the last iterate can launch bodies). It stops when that residual,
+// max_j A_jj |F_j| / max_j |q_j|, is at most kSettledResidual, or after max_factorizations
+// factorisations (the budget).
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
 

@@ -153,6 +153,30 @@ TEST(SolveNewton, RestingStackWithMassRatio1000SettlesWithinTheBudgetAndStaysSet
   EXPECT_EQ(capped.unsettled, capped.residual > kSettledResidual ? 1 : 0);
 }
 
+// Stopped by its budget, even from a warm start outside the bounds, the solver still applies admissible impulses (no pulling normal, friction
+// inside the box of its normal), and the residual it reports is that of what it returns.
+TEST(SolveNewton, AnUnsettledAnswerIsAdmissible) {
+  int unsettled = 0;
+  for (int budget = 1; budget <= 6; ++budget) {
+    Scene s = stack(true);
+    // A warm start far outside the bounds: pulling normals, friction beyond its box.
+    for (std::size_t j = 0; j < s.rows.size(); ++j) s.rows.lambda[j] = s.rows.kind[j] == RowKind::Normal ? -100.0 : 50.0;
+    SolverParams p = newton_params();
+    p.max_factorizations = budget;
+    const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, p);
+    if (report.unsettled == 0) continue;
+    ++unsettled;
+    for (std::size_t j = 0; j < s.rows.size(); ++j) {
+      const double lambda = s.rows.lambda[j];
+      if (s.rows.kind[j] == RowKind::Normal) EXPECT_GE(lambda, 0.0) << "budget " << budget;
+      if (s.rows.kind[j] == RowKind::Friction)
+        EXPECT_LE(std::abs(lambda), s.rows.mu[j] * s.rows.lambda[s.rows.normal_of[j]]) << "budget " << budget;
+    }
+    EXPECT_NEAR(natural_map_residual(s.rows, s.bodies, s.islands), report.residual, 1e-12);
+  }
+  EXPECT_GT(unsettled, 0);
+}
+
 // The residual is in velocity units relative to the island's largest free velocity, so an error in
 // a 1 kg box's impulse beside a 10000 kg one shows at its own size: a change d lambda of the light
 // box's normal impulse moves its row's velocity by A_jj d lambda, and the residual by that over
