@@ -1,4 +1,4 @@
-// rbpart partition: partition a graph in METIS format (DESIGN.md §9) with one of rbpart's
+// rbpart partition: partition a graph in METIS format (docs/design.md#contracts) with one of rbpart's
 // partitioners and refiners; part ids one per line (the METIS .part layout), and a one-line JSON
 // quality report.
 #include <nlohmann/json.hpp>

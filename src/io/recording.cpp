@@ -232,7 +232,7 @@ struct RecordingWriter::Impl {
   Impl(const std::string& path, std::vector<PartitionParams> extra_channels)
       : sink(path), extra(std::move(extra_channels)) {}
 
-  // One channel: counts, part ids, interface bits (DESIGN.md §4: an edge is an interface edge when
+  // One channel: counts, part ids, interface bits (docs/design.md#graph: an edge is an interface edge when
   // its bodies lie in different parts; its constraints are the edge cut, its rows the interface rows).
   void write_channel(ByteWriter& w, const ConstraintGraph& g, const Partition& p, double partition_ms,
                      double refine_ms) {

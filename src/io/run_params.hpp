@@ -1,6 +1,6 @@
 #pragma once
 // The parameters of a run as named text, reported in every output (stats header, state file) so a
-// run can be reproduced from its outputs alone (DESIGN.md §2: "reported in outputs").
+// run can be reproduced from its outputs alone (docs/design.md#dynamics: "reported in outputs").
 #include <rbpart/params.hpp>
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Per-step statistics as CSV (DESIGN.md §9): the run's parameters as "# key=value" comment lines,
+// Per-step statistics as CSV (docs/design.md#contracts): the run's parameters as "# key=value" comment lines,
 // the column header, then one line per step. The file appears only when finish() succeeds.
 #include "io/atomic_file.hpp"
 #include "io/run_params.hpp"
