@@ -273,9 +273,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, co
   meta["bodies"] = scene.bodies.size();
   for (const BodyDef& b : scene.bodies) impl_->nodes += !b.is_static;
   meta["nodes"] = impl_->nodes;
-  Json p = Json::object();
-  for (const auto& [key, value] : params) p[key] = value;
-  meta["params"] = std::move(p);
+  meta["params"] = params_json(params);
   Json channels = Json::array();
   channels.push_back({{"name", run_channel}, {"source", "run"}});
   for (const PartitionParams& c : impl_->extra)

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/cli_test.hpp"
@@ -164,13 +165,13 @@ TEST_F(PartitionCli, SimulateReportsThePartitionPerStep) {
                    "--nmax 8 --quiet --stats " + path("s.csv")),
             0)
       << err_;
+  const nlohmann::json params = nlohmann::json::parse(read(path("s.csv.json")));
+  for (const auto& [key, value] : {std::pair<const char*, const char*>{"partitioner", "mix"},
+                                   {"refiner", "none"}, {"nmax", "8"}, {"tau_mix", "0.5"}})
+    EXPECT_EQ(params.value(key, ""), value) << key;
   std::istringstream csv(read(path("s.csv")));
   std::string line, header;
-  std::vector<std::string> params;
-  while (std::getline(csv, line) && line.rfind("# ", 0) == 0) params.push_back(line);
-  header = line;
-  for (const char* p : {"# partitioner=mix", "# refiner=none", "# nmax=8", "# tau_mix=0.5"})
-    EXPECT_NE(std::find(params.begin(), params.end(), p), params.end()) << p;
+  std::getline(csv, header);
   std::vector<std::string> columns;
   std::stringstream h(header);
   for (std::string c; std::getline(h, c, ',');) columns.push_back(c);
