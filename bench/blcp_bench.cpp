@@ -1,13 +1,12 @@
-// The fixed-bounds BLCP core (DESIGN.md §3) on random contact-like islands: n rows on ~n/10 bodies
-// of a 3-D lattice (each row touches at most two neighbouring bodies; normal rows [0, inf), friction
-// rows in fixed boxes, some bilateral and box rows; sigma a 1e-6 floor), for the three backends:
-// dense Cholesky of A_FF, CHOLMOD on A, and CHOLMOD on the body-space matrix M + J_F^T S_F^-1 J_F.
-// Timed: building the matrix (incl. symbolic analysis) and the pivoting solve, per BLCP.
-//   cold: sets start at the lower bounds (first contact);
-//   warm: sets start at those of a previous (untimed) solve, as in a settled step.
-// Counters: rows, bodies, iterations (face solves), factorisations, whether projected Newton had to
-// finish after pivoting stalled, and whether the solve converged (if not, the time is that of
-// max_iterations = 500 iterations).
+// The fixed-bounds BLCP core (docs/design.md#contact-problem) on random contact-like islands: n rows on ~n/10
+// bodies of a 3-D lattice (each row touches at most two neighbouring bodies; normal rows [0, inf), friction
+// rows in fixed boxes, some bilateral and box rows; sigma a 1e-6 floor), for the three backends: dense
+// Cholesky of A_FF, CHOLMOD on A, and CHOLMOD on the body-space matrix M + J_F^T S_F^-1 J_F. Timed: building
+// the matrix (incl. symbolic analysis) and the pivoting solve, per BLCP.   cold: sets start at the lower
+// bounds (first contact);   warm: sets start at those of a previous (untimed) solve, as in a settled step.
+// Counters: rows, bodies, iterations (face solves), factorisations, whether projected Newton had to finish
+// after pivoting stalled, and whether the solve converged (if not, the time is that of max_iterations = 500
+// iterations).
 #include "solve/blcp.hpp"
 #include "solve/dense_matrix.hpp"
 #include "solve/sparse_matrix.hpp"

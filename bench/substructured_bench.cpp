@@ -1,11 +1,11 @@
-// The substructured solver (DESIGN.md §7) against the monolithic direct solver on recorded step
-// problems of formed piles: rock_pile (200 rocks) and large_rock_pile (600 rocks, masses from
-// {10, 100, 1000} kg). Set-up, once per scene and untimed: the scene runs `kFormed` steps with the
-// monolithic direct solver (as `rbpart bench` captures its trajectories, study/capture.hpp), and
-// every 10th of the last 100 steps is kept with the warm start the live solve started from, so the
-// problems timed are those a World solves once the pile has landed. The set-up takes about 1 min
-// for rock_pile and 6 min for large_rock_pile (its landing) on one core.
-// Every benchmark iteration solves every recorded problem once, from its warm start.
+// The substructured solver (docs/design.md#substructured) against the monolithic direct solver on recorded
+// step problems of formed piles: rock_pile (200 rocks) and large_rock_pile (600 rocks, masses from {10, 100,
+// 1000} kg). Set-up, once per scene and untimed: the scene runs `kFormed` steps with the monolithic direct
+// solver (as `rbpart bench` captures its trajectories, study/capture.hpp), and every 10th of the last 100
+// steps is kept with the warm start the live solve started from, so the problems timed are those a World
+// solves once the pile has landed. The set-up takes about 1 min for rock_pile and 6 min for large_rock_pile
+// (its landing) on one core. Every benchmark iteration solves every recorded problem once, from its warm
+// start.
 //
 // Arguments: threads, then for the substructured solver the partitioner (MinDP, or MIX refined by
 // FM) and n_max. Counters, per solve: ms (wall), parts, interface rows and bodies, loop iterations,

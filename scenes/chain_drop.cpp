@@ -1,4 +1,4 @@
-// Chain Drop (DESIGN.md §8): capsule links on ball joints released horizontally above the ground,
+// Chain Drop (docs/design.md#scenes): capsule links on ball joints released horizontally above the ground,
 // falling across a static bar and folding onto the ground; the last link is much heavier.
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-// Log Tower (DESIGN.md §8): a crib of `layers` layers of `logs` logs, each layer turned 90 degrees,
+// Log Tower (docs/design.md#scenes): a crib of `layers` layers of `logs` logs, each layer turned 90 degrees,
 // hit by a heavy block dropped on top.
 #include <algorithm>
 #include <cmath>

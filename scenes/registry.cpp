@@ -9,7 +9,7 @@ namespace rbpart {
 
 const std::vector<SceneInfo>& builtin_scenes() {
   static const std::vector<SceneInfo> scenes = {
-      // The paper's scenes (DESIGN.md §8).
+      // The paper's scenes (docs/design.md#scenes).
       chain_drop_scene(), log_tower_scene(), rock_pile_scene(), large_rock_pile_scene(),
       // Benchmark and analytic scenes.
       box_pile_scene(), box_stack_scene(), slope_scene(), pendulum_scene(), hanging_chain_scene()};

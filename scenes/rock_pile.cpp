@@ -1,4 +1,4 @@
-// Rock Pile (DESIGN.md §8): convex rocks dropped from a jittered grid into a static bin.
+// Rock Pile (docs/design.md#scenes): convex rocks dropped from a jittered grid into a static bin.
 #include <algorithm>
 #include <cmath>
 

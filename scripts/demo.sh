@@ -8,7 +8,7 @@ scripts/install_deps.sh
 scripts/build.sh
 mkdir -p out
 # The scene's 200 rocks, 500 steps: about 5-6 minutes on this 2-core machine, most of it while the
-# rocks land (README, status).
+# rocks land (bench/results/amd-epyc-2core/simulate/).
 build/rbpart simulate --scene rock_pile --steps 500 --stats out/rock_pile.csv \
   --state out/rock_pile_state.json --partitioner mix --refine fm --record out/rock_pile.rbrec \
   --record-partitioners mindp

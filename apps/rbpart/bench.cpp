@@ -78,7 +78,8 @@ Run add_bench(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "The partitioning study: every partitioner x refinement on the same recorded steps (Table 1, Figures 3-5)");
   auto o = std::make_shared<Options>();
-  cmd->add_option("--preset", o->preset, "paper (DESIGN.md scenes, 500 steps, scaling 50-800 rocks) or quick (CI)")
+  cmd->add_option("--preset", o->preset,
+                  "paper (the paper's scenes, 500 steps, scaling 50-800 rocks) or quick (CI)")
       ->capture_default_str();
   cmd->add_option("--scenes", o->scenes, "Scenes: built-in NAME[:key=value...] or scene files (replaces the preset's)")
       ->delimiter(',');

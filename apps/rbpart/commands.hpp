@@ -34,7 +34,7 @@ std::vector<std::pair<std::string, std::string>> split_assignments(const std::ve
 SceneDef resolve_scene(const std::string& scene, const std::vector<std::string>& sets);
 
 // --partitioner, --refine, --nmax, --tau-mr, --tau-mix, --debug-checks, shared by `partition` and
-// `simulate` (DESIGN.md §5-6); defined in partition.cpp.
+// `simulate` (docs/design.md#partition, #refine); defined in partition.cpp.
 struct PartitionOptions {
   std::string partitioner = "none", refiner = "none";
   PartitionParams params;

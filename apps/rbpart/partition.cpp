@@ -1,4 +1,4 @@
-// rbpart partition: partition a graph in METIS format (DESIGN.md §9) with one of rbpart's
+// rbpart partition: partition a graph in METIS format (docs/design.md#contracts) with one of rbpart's
 // partitioners and refiners; part ids one per line (the METIS .part layout), and a one-line JSON
 // quality report.
 #include <nlohmann/json.hpp>
@@ -52,15 +52,21 @@ namespace {
 
 struct Options {
   std::string graph, masses, out, report;
+  int parts = 0;  // --parts K: 0 when not given
   PartitionOptions partition;
 };
 
+// --parts K as METIS users mean it: K balanced parts of a graph of n nodes need parts of at most
+// ceil(n / K) nodes, which is the cap rbpart's partitioners take (docs/formats.md#partition-report).
+int nmax_for_parts(int nodes, int parts) { return (nodes + parts - 1) / parts; }
+
 int run_partition(const Options& o) {
-  const PartitionParams params = partition_params(o.partition);
+  PartitionParams params = partition_params(o.partition);
   if (params.partitioner == PartitionerKind::None)
     throw InputError("--partitioner none makes no partition (choose bfs, mindp, maxdp, mr, mix or metis)");
   MetisGraph input = read_metis_graph(o.graph);
   ConstraintGraph& graph = input.graph;
+  if (o.parts > 0) params.nmax = nmax_for_parts(graph.node_count(), o.parts);
   if (!o.masses.empty()) graph.mass = read_masses(o.masses, graph.node_count());
   // Outputs are opened first so that a bad path fails before the work; each appears whole or not at all.
   std::optional<AtomicFile> out, report;
@@ -80,7 +86,7 @@ int run_partition(const Options& o) {
   }
 
   const PartitionQuality q = measure_partition(graph, partition);
-  const nlohmann::ordered_json json = {
+  nlohmann::ordered_json json = {
       {"partitioner", partitioner_name(params.partitioner)},
       {"refiner", refiner_name(params.refiner)},
       {"nmax", params.nmax},
@@ -97,6 +103,7 @@ int run_partition(const Options& o) {
       {"interface_bodies", q.interface_bodies},
       {"partition_ms", partition_ms},
       {"refine_ms", refine_ms}};
+  if (o.parts > 0) json["requested_parts"] = o.parts;
   const std::string parts = part_file_text(partition), line = json.dump() + "\n";
   if (out) {
     out->write(parts);
@@ -121,6 +128,10 @@ Run add_partition(CLI::App& app) {
   cmd->add_option("--graph", o->graph, "Graph in METIS format (fmt 0, 1, 10 or 11)")->required();
   cmd->add_option("--masses", o->masses, "Vertex masses, one per line (default 1)");
   add_partition_options(cmd, o->partition, true);
+  cmd->add_option("--parts", o->parts,
+                  "Parts wanted, as METIS counts them: sets --nmax to ceil(nodes / K), the cap of K balanced parts")
+      ->check(at_least(1))
+      ->excludes(cmd->get_option("--nmax"));
   cmd->add_option("--out", o->out, "Part ids, one per vertex per line (default: stdout)");
   cmd->add_option("--report", o->report, "One-line JSON quality report (default: stderr)");
   return [o]() { return run_partition(*o); };

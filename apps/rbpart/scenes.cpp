@@ -1,4 +1,4 @@
-// rbpart scenes: list the built-in scenes, or export one as a scene file (DESIGN.md §9).
+// rbpart scenes: list the built-in scenes, or export one as a scene file (docs/design.md#contracts).
 #include <cstdio>
 
 #include "apps/rbpart/commands.hpp"

@@ -10,6 +10,7 @@
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "core/timer.hpp"
 #include "io/recording.hpp"
 #include "io/state_json.hpp"
 #include "io/stats_csv.hpp"
@@ -69,21 +70,29 @@ int run_simulate(const Options& o) {
 
   std::vector<double> total_ms, solve_ms;
   double max_penetration = 0, max_residual = 0;
-  int fallbacks = 0;
+  int fallbacks = 0, unsettled_steps = 0, last_unsettled = 0, slowest = 0;
   long loop_iterations = 0;
   Progress progress("simulate " + scene.name, steps);
+  const Timer run_timer;
   for (int i = 0; i < steps; ++i) {
     const StepStats& s = world.step();
     if (stats) stats->write(s);
     if (recording) recording->write_step(world, s);
+    if (s.profile.total_ms > (total_ms.empty() ? -1.0 : total_ms[slowest])) slowest = i;
     total_ms.push_back(s.profile.total_ms);
     solve_ms.push_back(s.profile.solve_ms);
     max_penetration = std::max(max_penetration, s.max_penetration);
     max_residual = std::max(max_residual, s.residual);
     fallbacks += s.fallbacks;
     loop_iterations += s.loop_iterations;
+    if (s.unsettled > 0) {
+      ++unsettled_steps;
+      last_unsettled = s.step;
+    }
     progress.update(i + 1);
   }
+  const double run_s = run_timer.ms() / 1000;
+  progress.finish();
   if (stats) stats->finish();
   if (recording) recording->finish();
   if (!o.state_path.empty()) write_state_json(o.state_path, world.scene(), world.bodies(), world.time(), params);
@@ -93,9 +102,19 @@ int run_simulate(const Options& o) {
     for (const BodyDef& b : scene.bodies) dynamic += !b.is_static;
     std::printf("scene %s: %d dynamic bodies, %zu joints, %d steps of %.4g s, solver %s\n", scene.name.c_str(),
                 dynamic, scene.joints.size(), steps, scene.dt, o.solver.c_str());
-    std::printf("median step %.3f ms (solve %.3f ms); max penetration %.3g m; max BLCP residual %.3g; "
-                "fallbacks %d\n",
-                median(total_ms), median(solve_ms), max_penetration, max_residual, fallbacks);
+    double solve_total_ms = 0;
+    for (double ms : solve_ms) solve_total_ms += ms;
+    std::printf("total %.3g s (solve %.3g s); median step %.3f ms (solve %.3f ms)", run_s, solve_total_ms / 1000,
+                median(total_ms), median(solve_ms));
+    if (steps > 0)
+      std::printf("; slowest step %d: %.3f ms (solve %.3f ms)", slowest + 1, total_ms[slowest], solve_ms[slowest]);
+    std::printf("\n");
+    if (unsettled_steps > 0)
+      std::printf("unsettled steps: %d of %d, the last at step %d\n", unsettled_steps, steps, last_unsettled);
+    else
+      std::printf("unsettled steps: none\n");
+    std::printf("max penetration %.3g m; max BLCP residual %.3g; fallbacks %d\n", max_penetration, max_residual,
+                fallbacks);
     if (solver_params.kind == SolverKind::Substructured)
       std::printf("substructured loop: %.2f iterations per step\n", steps ? double(loop_iterations) / steps : 0.0);
     const ConstraintGraph& g = world.graph();
@@ -172,7 +191,7 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--slop", o->step_params.slop, "Penetration left uncorrected (m)")
       ->check(at_least(0))
       ->capture_default_str();
-  cmd->add_option("--stats", o->stats_path, "Per-step statistics as CSV");
+  cmd->add_option("--stats", o->stats_path, "Per-step statistics as CSV (its parameters in FILE.json beside it)");
   cmd->add_option("--state", o->state_path, "Final state as JSON");
   CLI::Option* record = cmd->add_option("--record", o->record_path, "Recording for `rbpart view` (docs/viewer.md)");
   cmd->add_option("--record-partitioners", o->record_partitioners,

@@ -1,6 +1,6 @@
 #pragma once
-// Every numerical parameter of the step, with its named default, in one place (DESIGN.md §2-3).
-// They are reported in the outputs (stats header, state file) so a run can be reproduced.
+// Every numerical parameter of the step, with its named default, in one place (docs/design.md#dynamics,
+// #contact-problem). They are reported in the outputs (stats header, state file) so a run can be reproduced.
 #include <string>
 
 namespace rbpart {
@@ -8,7 +8,7 @@ namespace rbpart {
 enum class SolverKind { Direct, Pgs, Substructured, Newton };
 
 struct StepParams {
-  // Stabilisation (DESIGN.md §2): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.
+  // Stabilisation (docs/design.md#dynamics): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.
   double erp = 0.2;
   double slop = 0.0001;          // m of penetration tolerated without correction
   // Regularisation floor: sigma_j >= sigma_floor * (J M^-1 J^T)_jj keeps A SPD with redundant rows.
@@ -31,12 +31,13 @@ struct StepParams {
 
 struct SolverParams {
   SolverKind kind = SolverKind::Direct;
-  // Newton solver (--solver newton, solve/newton.hpp): the budget (DESIGN.md §3): factorisations per island and step; past it the
-  // iterate of least residual is kept and the step counted unsettled.
+  // Newton solver (--solver newton, solve/newton.hpp): the budget (docs/design.md#contact-problem):
+  // factorisations per island and step; past it the iterate of least residual is kept and the step counted
+  // unsettled.
   int max_factorizations = 40;
   // Islands of at most this many bodies factor their body-space system dense, larger ones sparse.
   int dense_max_bodies = 8;
-  // Direct (block principal pivoting, DESIGN.md §3).
+  // Direct (block principal pivoting, docs/design.md#contact-problem).
   int dense_max_rows = 300;        // islands up to this many rows use dense Cholesky, larger CHOLMOD
   int max_pivot_iterations = 500;  // per BLCP solve
   // Pivoting iterations without fewer infeasible rows before projected Newton takes over (the name
@@ -58,23 +59,23 @@ struct SolverParams {
   // PGS (the iterative baseline).
   int pgs_iterations = 100;
   double pgs_tolerance = 1e-8;     // stop when the largest impulse change (scaled) falls below
-  // Substructured (DESIGN.md §7): interface/sub-system iterations per BLCP before the counted
+  // Substructured (docs/design.md#substructured): interface/sub-system iterations per BLCP before the counted
   // fallback to the monolithic backend. Resting steps settle in 1-3; while a pile lands the loop
   // rarely settles, and each iteration costs ~100 ms on the Large Rock Pile. Steps 10-150 of it
   // (MIX+FM, n_max 32, 1 thread, `rbpart bench ... --every 10`) took 2.09x the monolithic time
   // with a cap of 30, 1.44x with 10, 1.27x with 5.
   int substructured_max_iterations = 5;
-  // Halved steps of the safeguard (DESIGN.md §7) allowed per BLCP before the same fallback. A full
-  // step that the safeguard rejects marks a loop far from its answer: on the first 150 steps of
-  // the Large Rock Pile (as above, cap 5) falling back at the first one took MIX+FM from 1.27x to
-  // 1.13x the monolithic time, MinDP from 1.68x to 1.35x. A large value keeps the descent method
-  // going to the answer, which the tests use.
+  // Halved steps of the safeguard (docs/design.md#substructured) allowed per BLCP before the same fallback. A
+  // full step that the safeguard rejects marks a loop far from its answer: on the first 150 steps of the
+  // Large Rock Pile (as above, cap 5) falling back at the first one took MIX+FM from 1.27x to 1.13x the
+  // monolithic time, MinDP from 1.68x to 1.35x. A large value keeps the descent method going to the answer,
+  // which the tests use.
   int substructured_max_halvings = 0;
   int threads = 0;                 // 0: all hardware threads
 };
 
-// Partitioners and refiners (DESIGN.md §5-6). Partitioner None: no partition is made (the monolithic
-// solvers' parts are the islands); any other partitioner runs every step, for the substructured
+// Partitioners and refiners (docs/design.md#partition, #refine). Partitioner None: no partition is made (the
+// monolithic solvers' parts are the islands); any other partitioner runs every step, for the substructured
 // solver or only to report its quality beside a monolithic solve.
 enum class PartitionerKind { None, Bfs, MinDp, MaxDp, Mr, Mix, Metis };
 // FmRollback is classic Fiduccia-Mattheyses (non-positive moves taken, best prefix kept), an
@@ -88,7 +89,7 @@ struct PartitionParams {
   double tau_mr = 10;     // MR: a body joins only if the part's mass ratio stays below this
   double tau_mix = 0.5;   // MIX: MinDP growth up to tau_mix * nmax bodies, then max-gain growth
   // Recompute gains and cut from scratch after every refinement move and check the partition's
-  // properties (DESIGN.md §5) after every step; slow, for tests and debugging.
+  // properties (docs/design.md#partition) after every step; slow, for tests and debugging.
   bool debug_checks = false;
 };
 

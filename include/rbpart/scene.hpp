@@ -1,6 +1,6 @@
 #pragma once
-// Scene definition: what the user describes (DESIGN.md §9). Immutable once a World is built from it;
-// the evolving body state lives in the World, per-step scratch data in the pipeline stages.
+// Scene definition: what the user describes (docs/design.md#contracts). Immutable once a World is built from
+// it; the evolving body state lives in the World, per-step scratch data in the pipeline stages.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>

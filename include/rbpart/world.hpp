@@ -1,6 +1,6 @@
 #pragma once
 // A World advances a scene in time: collide -> assemble -> graph -> (partition -> refine) -> solve
-// -> integrate (DESIGN.md §1), each stage timed into the step's profile.
+// -> integrate (docs/design.md#step), each stage timed into the step's profile.
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
 
@@ -22,7 +22,7 @@ struct StepProfile {
          integrate_ms = 0, total_ms = 0;
 };
 
-// Per-step statistics (DESIGN.md §9: one CSV line per step).
+// Per-step statistics (docs/design.md#contracts: one CSV line per step).
 struct StepStats {
   int step = 0;
   int bodies = 0;            // dynamic bodies
@@ -37,18 +37,19 @@ struct StepStats {
   int friction_passes = 0;
   int factorizations = 0;
   // Islands the solver could not finish within its caps; for the substructured solver also the
-  // islands it handed to the monolithic solve after its iteration cap (DESIGN.md §7).
+  // islands it handed to the monolithic solve after its iteration cap (docs/design.md#substructured).
   int fallbacks = 0;
-  // Islands whose friction loop (DESIGN.md §3) ended above its tolerance: approximate impulses.
+  // Islands whose friction loop (docs/design.md#contact-problem) ended above its tolerance: approximate
+  // impulses.
   int unsettled = 0;
   double residual = 0;       // scaled natural-map residual of the step's BLCP
   double max_penetration = 0;  // m, deepest contact after collision
   double kinetic_energy = 0;   // J, after the step
   StepProfile profile;
-  // Substructured solver only (0 otherwise): iterations of DESIGN.md §7's interface/sub-system
-  // loop, and the solve's work per phase summed over threads and islands (ms): factorisations,
-  // Schur complement (effective inverse masses, S and q~), interface BLCPs, sub-system BLCPs; all
-  // work including set-up, monolithic one-part islands and fallbacks; and the critical path (each
+  // Substructured solver only (0 otherwise): iterations of docs/design.md#substructured's
+  // interface/sub-system loop, and the solve's work per phase summed over threads and islands (ms):
+  // factorisations, Schur complement (effective inverse masses, S and q~), interface BLCPs, sub-system BLCPs;
+  // all work including set-up, monolithic one-part islands and fallbacks; and the critical path (each
   // parallel section replaced by its slowest part), which bounds the solve time on many cores.
   int loop_iterations = 0;
   double factor_ms = 0, schur_ms = 0, interface_ms = 0, subsystem_ms = 0, work_ms = 0, critical_path_ms = 0;
@@ -57,7 +58,7 @@ struct StepStats {
 class World {
  public:
   // With a partitioner in `partition_params` every step partitions and refines the constraint graph
-  // (DESIGN.md §5-6) and reports the partition's quality in its stats.
+  // (docs/design.md#partition, #refine) and reports the partition's quality in its stats.
   World(SceneDef scene, StepParams step_params = {}, SolverParams solver_params = {},
         PartitionParams partition_params = {});
   ~World();

@@ -155,7 +155,7 @@ void append_joint_rows(const std::vector<JointFrame>& joints, const Bodies& bodi
     }
     if (f.type == JointType::Hinge) {
       // Two rows stop relative rotation about axes perpendicular to the hinge axis; the error
-      // a_b x a_a measures the axes' misalignment (small-angle, DESIGN.md §2).
+      // a_b x a_a measures the axes' misalignment (small-angle, docs/design.md#dynamics).
       const Vec3 axis_a = a >= 0 ? Vec3(q[0] * f.axis[0]) : f.axis[0];
       const Vec3 axis_b = b >= 0 ? Vec3(q[1] * f.axis[1]) : f.axis[1];
       const Vec3 t1 = perpendicular(axis_a);

@@ -1,5 +1,5 @@
 #pragma once
-// Assembly stage: every contact and joint becomes constraint rows (DESIGN.md §2), warm started by
+// Assembly stage: every contact and joint becomes constraint rows (docs/design.md#dynamics), warm started by
 // persistent key from the previous step's solution.
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
@@ -54,7 +54,7 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
                    const WarmStart& warm, Rows& rows);
 
 // Appends every joint's rows at the bodies' current poses with q = the row's position error phi
-// (DESIGN.md §2) and sigma = the joint's compliance; assemble_rows scales both by the step.
+// (docs/design.md#dynamics) and sigma = the joint's compliance; assemble_rows scales both by the step.
 void append_joint_rows(const std::vector<JointFrame>& joints, const Bodies& bodies, Rows& rows);
 
 // Appends a contact's normal row (lambda >= 0 pushes body_a along the normal, body_b against it,

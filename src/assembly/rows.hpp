@@ -1,8 +1,8 @@
 #pragma once
-// Constraint rows of one step (DESIGN.md §2), stored per field (structure of arrays). Each row acts
-// on at most two dynamic bodies; a static body or the world is body index -1 and owns no unknowns.
-// Row j's BLCP data: A = J M^-1 J^T + diag(sigma), q = J u* + b, lo <= lambda <= hi, where a friction
-// row's bounds are +-mu * lambda[normal_of] (set by the solver's friction outer loop).
+// Constraint rows of one step (docs/design.md#dynamics), stored per field (structure of arrays). Each row
+// acts on at most two dynamic bodies; a static body or the world is body index -1 and owns no unknowns. Row
+// j's BLCP data: A = J M^-1 J^T + diag(sigma), q = J u* + b, lo <= lambda <= hi, where a friction row's
+// bounds are +-mu * lambda[normal_of] (set by the solver's friction outer loop).
 #include <Eigen/Core>
 
 #include <array>
@@ -16,7 +16,8 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 enum class RowKind : std::uint8_t { Normal, Friction, Joint };
 
-// Index set of a row in the BLCP (DESIGN.md §3): free, at its lower bound, at its upper bound.
+// Index set of a row in the BLCP (docs/design.md#contact-problem): free, at its lower bound, at its upper
+// bound.
 enum class RowState : std::int8_t { Free = 0, Lower = 1, Upper = 2 };
 
 struct Rows {

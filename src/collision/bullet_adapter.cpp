@@ -1,4 +1,4 @@
-// Collision stage (DESIGN.md §1 "collide") on Bullet's collision module in double precision. This
+// Collision stage (docs/design.md#step "collide") on Bullet's collision module in double precision. This
 // is the only file that includes Bullet.
 //
 // The setup, and why:

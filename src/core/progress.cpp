@@ -2,27 +2,65 @@
 
 #include <unistd.h>
 
-#include <cstdio>
+#include <cmath>
 
 namespace rbpart {
 
-Progress::Progress(std::string label, long total)
-    : label_(std::move(label)), total_(total > 0 ? total : 1), enabled_(isatty(fileno(stderr)) != 0) {}
+namespace {
 
-Progress::~Progress() {
-  if (enabled_ && last_permille_ >= 0) std::fprintf(stderr, "\n");
+// m:ss, or h:mm:ss from an hour on.
+std::string duration(double seconds) {
+  const long s = static_cast<long>(std::lround(seconds));
+  char buffer[32];
+  if (s >= 3600)
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  else
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld", s / 60, s % 60);
+  return buffer;
+}
+
+}  // namespace
+
+Progress::Progress(std::string label, long total)
+    : label_(std::move(label)), total_(total > 0 ? total : 1), out_(stderr),
+      enabled_(isatty(fileno(stderr)) != 0) {}
+
+Progress::Progress(std::string label, long total, std::FILE* out)
+    : label_(std::move(label)), total_(total > 0 ? total : 1), out_(out), enabled_(true) {}
+
+Progress::~Progress() { finish(); }
+
+std::string Progress::line(const std::string& label, long done, long total, double elapsed_s) {
+  constexpr int kWidth = 40;
+  const int permille = static_cast<int>(1000 * done / total);
+  const int filled = permille * kWidth / 1000;
+  const std::string left = done > 0 ? duration(elapsed_s * (total - done) / done) : "--:--";
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, " [%.*s%*s] %5.1f%% (%ld/%ld) %s elapsed, %s left", filled,
+                "########################################", kWidth - filled, "", permille / 10.0, done,
+                total, duration(elapsed_s).c_str(), left.c_str());
+  return label + buffer;
 }
 
 void Progress::update(long done) {
   if (!enabled_) return;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const int permille = static_cast<int>(1000 * done / total_);
-  if (permille == last_permille_) return;
+  const long second = static_cast<long>(elapsed);
+  if (permille == last_permille_ && second == last_second_) return;
   last_permille_ = permille;
-  constexpr int kWidth = 40;
-  const int filled = permille * kWidth / 1000;
-  std::fprintf(stderr, "\r%s [%.*s%*s] %5.1f%% (%ld/%ld)", label_.c_str(), filled,
-               "########################################", kWidth - filled, "", permille / 10.0, done, total_);
-  std::fflush(stderr);
+  last_second_ = second;
+  // "\033[K" clears what a longer previous drawing left at the end of the line.
+  std::fprintf(out_, "\r%s\033[K", line(label_, done, total_, elapsed).c_str());
+  std::fflush(out_);
+  drawn_ = true;
+}
+
+void Progress::finish() {
+  if (!drawn_) return;
+  std::fprintf(out_, "\n");
+  std::fflush(out_);
+  drawn_ = false;
 }
 
 }  // namespace rbpart

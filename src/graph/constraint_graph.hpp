@@ -1,5 +1,5 @@
 #pragma once
-// The constraint graph (DESIGN.md §4): nodes are dynamic bodies, one edge per pair of dynamic bodies
+// The constraint graph (docs/design.md#graph): nodes are dynamic bodies, one edge per pair of dynamic bodies
 // sharing at least one constraint, weighted by the number of constraints between them (a contact
 // point or a joint is one constraint); the rows between the pair are kept beside the weight.
 // Constraints with a static body or the world are not edges. Flat CSR with an n+1 offset sentinel.
@@ -24,7 +24,7 @@ struct ConstraintGraph {
   int degree(int node) const;
 };
 
-// Builds the graph of the step's rows (DESIGN.md §4).
+// Builds the graph of the step's rows (docs/design.md#graph).
 void build_constraint_graph(const Rows& rows, const Bodies& bodies, ConstraintGraph& graph);
 
 }  // namespace rbpart

@@ -10,7 +10,7 @@
 
 namespace rbpart {
 
-// An undirected edge: `weight` constraints carried by `rows` rows (DESIGN.md §4).
+// An undirected edge: `weight` constraints carried by `rows` rows (docs/design.md#graph).
 struct GraphEdge {
   int a = 0, b = 0;
   int weight = 1, rows = 1;
@@ -43,7 +43,7 @@ ConstraintGraph clique_graph(int nodes);
 // islands' nodes interleaved in index order so that islands are not index ranges.
 ConstraintGraph islands_graph(int count, int max_size, std::uint64_t seed);
 
-// One mass per node drawn from {10, 100, 1000} kg (the Large Rock Pile's masses, DESIGN.md §8).
+// One mass per node drawn from {10, 100, 1000} kg (the Large Rock Pile's masses, docs/design.md#scenes).
 std::vector<double> random_masses(int nodes, std::uint64_t seed);
 // Returns `graph` with the masses replaced.
 ConstraintGraph with_masses(ConstraintGraph graph, std::vector<double> masses);

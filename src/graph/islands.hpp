@@ -1,5 +1,5 @@
 #pragma once
-// Islands: connected components of the constraint graph (DESIGN.md §4). Independent BLCPs.
+// Islands: connected components of the constraint graph (docs/design.md#graph). Independent BLCPs.
 #include "assembly/rows.hpp"
 
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
-// Integration stage (DESIGN.md §1-2): free velocities before the solve, then impulses and positions
-// after it (semi-implicit Euler, unit quaternions).
+// Integration stage (docs/design.md#step, #dynamics): free velocities before the solve, then impulses and
+// positions after it (semi-implicit Euler, unit quaternions).
 #include <rbpart/scene.hpp>
 
 #include "assembly/rows.hpp"

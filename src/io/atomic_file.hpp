@@ -1,5 +1,5 @@
 #pragma once
-// Output files that appear whole or not at all (DESIGN.md §9: "nothing half written is left
+// Output files that appear whole or not at all (docs/design.md#contracts: "nothing half written is left
 // behind"). Every writer in io/ goes through AtomicFile: the text is written to a temporary file in
 // the target's directory (so that the final rename stays on one file system and is atomic), flushed
 // to disk, and renamed over the target only by commit(). A file that is never committed — an

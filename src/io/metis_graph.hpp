@@ -1,6 +1,6 @@
 #pragma once
 // Graphs in METIS format, node masses and METIS-style part files, for `rbpart partition`
-// (DESIGN.md §9: any graph can be partitioned and compared with METIS).
+// (docs/design.md#contracts: any graph can be partitioned and compared with METIS).
 //
 // METIS graph format (METIS 5 manual, §4.1.1): lines starting with '%' are comments; the header is
 // `n m [fmt [ncon]]`; then one line per vertex (an empty line is a vertex without neighbours)

@@ -232,7 +232,7 @@ struct RecordingWriter::Impl {
   Impl(const std::string& path, std::vector<PartitionParams> extra_channels)
       : sink(path), extra(std::move(extra_channels)) {}
 
-  // One channel: counts, part ids, interface bits (DESIGN.md §4: an edge is an interface edge when
+  // One channel: counts, part ids, interface bits (docs/design.md#graph: an edge is an interface edge when
   // its bodies lie in different parts; its constraints are the edge cut, its rows the interface rows).
   void write_channel(ByteWriter& w, const ConstraintGraph& g, const Partition& p, double partition_ms,
                      double refine_ms) {
@@ -273,9 +273,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, co
   meta["bodies"] = scene.bodies.size();
   for (const BodyDef& b : scene.bodies) impl_->nodes += !b.is_static;
   meta["nodes"] = impl_->nodes;
-  Json p = Json::object();
-  for (const auto& [key, value] : params) p[key] = value;
-  meta["params"] = std::move(p);
+  meta["params"] = params_json(params);
   Json channels = Json::array();
   channels.push_back({{"name", run_channel}, {"source", "run"}});
   for (const PartitionParams& c : impl_->extra)

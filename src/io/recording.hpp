@@ -1,8 +1,9 @@
 #pragma once
-// Recordings of a run for the web viewer (docs/recording.md fixes the format): the scene's shapes
-// once, then per step the body poses, the constraint graph (DESIGN.md §4) and one or more partition
-// "channels" (§5-6) with their interface edges, and the step's statistics (§9). Little-endian
-// binary, gzip-compressed as a whole so the browser can inflate it with DecompressionStream.
+// Recordings of a run for the web viewer (docs/recording.md fixes the format): the scene's shapes once, then
+// per step the body poses, the constraint graph (docs/design.md#graph) and one or more partition "channels"
+// (docs/design.md#partition, #refine) with their interface edges, and the step's statistics
+// (docs/design.md#contracts). Little-endian binary, gzip-compressed as a whole so the browser can inflate it
+// with DecompressionStream.
 #include "io/run_params.hpp"
 
 #include <rbpart/params.hpp>

@@ -60,4 +60,10 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver, con
   return params;
 }
 
+nlohmann::ordered_json params_json(const ParamList& params) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : params) out[key] = value;
+  return out;
+}
+
 }  // namespace rbpart

@@ -1,10 +1,10 @@
 #pragma once
-// Scene files (DESIGN.md §9): JSON, z up, SI units, quaternions [w, x, y, z]. Loading is strict —
-// unknown keys, wrong types, duplicate keys, non-finite numbers and physically meaningless values
-// are rejected with one line naming the file, the field path and the problem, e.g.
-//   scene.json: bodies[3].shape.radius: must be positive (got -0.5)
-// Extensions to the §9 format: "steps" (the scene's default step count) and a joint's
-// "collide_connected" (whether the joined bodies collide; default false).
+// Scene files (docs/design.md#contracts): JSON, z up, SI units, quaternions [w, x, y, z]. Loading is strict —
+// unknown keys, wrong types, duplicate keys, non-finite numbers and physically meaningless values are
+// rejected with one line naming the file, the field path and the problem, e.g.   scene.json:
+// bodies[3].shape.radius: must be positive (got -0.5) Extensions to the format of docs/design.md#contracts:
+// "steps" (the scene's default step count) and a joint's "collide_connected" (whether the joined bodies
+// collide; default false).
 #include <rbpart/scene.hpp>
 
 #include <string>

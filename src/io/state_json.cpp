@@ -32,11 +32,7 @@ std::string state_to_json(const SceneDef& scene, const Bodies& bodies, double ti
                         {"angular_velocity", vec3_json(bodies.w[i])}});
   }
   out["bodies"] = std::move(list);
-  if (!params.empty()) {
-    Json p = Json::object();
-    for (const auto& [key, value] : params) p[key] = value;
-    out["params"] = std::move(p);
-  }
+  if (!params.empty()) out["params"] = params_json(params);
   return pretty_json(out);
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Final (or any) state as JSON (DESIGN.md §9), so that two runs can be compared:
+// Final (or any) state as JSON (docs/design.md#contracts), so that two runs can be compared:
 //   {"time": t, "bodies": [{"name", "position", "orientation" [w,x,y,z], "velocity",
 //    "angular_velocity"}, ...], "params": {...}}
 // in scene body order. Numbers round-trip exactly; "position" is that of the shape frame, the one a

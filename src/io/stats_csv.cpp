@@ -8,12 +8,6 @@ namespace rbpart {
 
 namespace {
 
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
-  return text;
-}
-
 void append_int(std::string& line, int value) {
   char buffer[16];
   line.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
@@ -36,14 +30,15 @@ void append_exact(std::string& line, double value) {
 
 }  // namespace
 
-StatsCsvWriter::StatsCsvWriter(const std::string& path, const ParamList& params) : file_(path) {
+StatsCsvWriter::StatsCsvWriter(const std::string& path, const ParamList& params)
+    : file_(path), sidecar_(sidecar_path(path)) {
   std::string header;
-  for (const auto& [key, value] : params) header += "# " + one_line(key) + "=" + one_line(value) + "\n";
   for (std::size_t i = 0; i < kColumns.size(); ++i) {
     header += kColumns[i];
     header += i + 1 < kColumns.size() ? ',' : '\n';
   }
   file_.write(header);
+  sidecar_.write(pretty_json(params_json(params)));
 }
 
 void StatsCsvWriter::write(const StepStats& s) {
@@ -80,6 +75,9 @@ void StatsCsvWriter::write(const StepStats& s) {
   file_.write(line_);
 }
 
-void StatsCsvWriter::finish() { file_.commit(); }
+void StatsCsvWriter::finish() {
+  file_.commit();
+  sidecar_.commit();
+}
 
 }  // namespace rbpart

@@ -1,6 +1,7 @@
 #pragma once
-// Per-step statistics as CSV (DESIGN.md §9): the run's parameters as "# key=value" comment lines,
-// the column header, then one line per step. The file appears only when finish() succeeds.
+// Per-step statistics as plain CSV (docs/design.md#contracts, docs/formats.md#stats-csv): one header
+// line, then one line per step, readable by any CSV reader. The run's parameters go to a JSON
+// sidecar beside it, `<path>.json`. Both files appear only when finish() succeeds.
 #include "io/atomic_file.hpp"
 #include "io/run_params.hpp"
 
@@ -21,16 +22,19 @@ class StatsCsvWriter {
       "blcp_residual", "max_penetration", "kinetic_energy", "loop_iterations", "factor_ms", "schur_ms",
       "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms", "unsettled"};
 
-  // Throws InputError if `path` cannot be created. Control characters in parameter keys or values
-  // become spaces, so that every parameter stays on its one comment line.
+  // The parameters' file beside a stats CSV: "run.csv" -> "run.csv.json".
+  static std::string sidecar_path(const std::string& csv_path) { return csv_path + ".json"; }
+
+  // Throws InputError if `path` or its sidecar cannot be created.
   StatsCsvWriter(const std::string& path, const ParamList& params);
 
   void write(const StepStats& stats);
-  // Commits the file; without it (an exception, an abandoned run) nothing is left behind.
+  // Commits both files; without it (an exception, an abandoned run) nothing is left behind.
   void finish();
 
  private:
   AtomicFile file_;
+  AtomicFile sidecar_;
   std::string line_;  // reused for every row
 };
 

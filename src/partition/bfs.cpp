@@ -1,4 +1,4 @@
-// BFS (DESIGN.md §5): seed at the lowest-index unassigned body, grow in breadth-first order with
+// BFS (docs/design.md#partition): seed at the lowest-index unassigned body, grow in breadth-first order with
 // neighbours in natural body order.
 #include "partition/grow.hpp"
 

@@ -1,5 +1,5 @@
-// MinDP (Peiret et al. 2019, after Cuthill-McKee) and MaxDP (DESIGN.md §5): seed at the unassigned
-// body of minimum (maximum) degree, then repeatedly add the candidate of minimum (maximum) degree.
+// MinDP (Peiret et al. 2019, after Cuthill-McKee) and MaxDP (docs/design.md#partition): seed at the
+// unassigned body of minimum (maximum) degree, then repeatedly add the candidate of minimum (maximum) degree.
 // Degrees are fixed, so every candidate is queued once per part with its final key.
 #include "partition/grow.hpp"
 

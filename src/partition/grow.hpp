@@ -1,10 +1,9 @@
 #pragma once
 // Seed-and-grow, the engine shared by BFS, MinDP, MaxDP, MR, MIX and METIS's post-processing
-// (DESIGN.md §5). A part starts at a seed and grows one body at a time: the body added next is the
-// candidate (an unassigned body adjacent to the part) that comes first in the rule's order, until
-// the part holds nmax bodies or no candidate is left; then the next seed starts a new part, until
-// every body of the island is assigned. The rules differ only in their order and filters, so each
-// is a small policy struct:
+// (docs/design.md#partition). A part starts at a seed and grows one body at a time: the body added next is
+// the candidate (an unassigned body adjacent to the part) that comes first in the rule's order, until the
+// part holds nmax bodies or no candidate is left; then the next seed starts a new part, until every body of
+// the island is assigned. The rules differ only in their order and filters, so each is a small policy struct:
 //
 //   int64 seed_key(v)     seeds are taken in increasing (seed_key, node) order;
 //   void  begin(seed)     a new part starts;
@@ -39,7 +38,7 @@ struct GrowState {
   // Per node, packed so that offering a neighbour touches one cache line besides part_of. The
   // candidate fields are valid while seen == the current part id (no clearing between parts).
   struct Node {
-    int degree;  // constraints to other dynamic bodies (DESIGN.md §4)
+    int degree;  // constraints to other dynamic bodies (docs/design.md#graph)
     int seen;    // last part that discovered the node as a candidate
     int seq;     // discovery order within that part (breadth-first order)
     int conn;    // constraints from the candidate into that part
@@ -106,7 +105,7 @@ void join_part(GrowState& s, Rule& rule, int v) {
   }
 }
 
-// Grows one part from `seed` (DESIGN.md §5: growth stops at nmax or when no candidate is left).
+// Grows one part from `seed` (docs/design.md#partition: growth stops at nmax or when no candidate is left).
 template <class Rule>
 void grow_part(GrowState& s, Rule& rule, int seed) {
   ++s.part_count;

@@ -1,4 +1,4 @@
-// MR, the mass-ratio partitioner (DESIGN.md §5): seeds and breadth-first order as BFS, but a
+// MR, the mass-ratio partitioner (docs/design.md#partition): seeds and breadth-first order as BFS, but a
 // candidate β joins only if max(m_min, m_β) / min(m_min, m_β) < τ_MR, with m_min the smallest mass
 // in the part; the part closes when no candidate qualifies (or at nmax).
 //

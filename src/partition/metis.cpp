@@ -1,4 +1,4 @@
-// METIS, the min-cut reference (DESIGN.md §5): multilevel recursive bisection
+// METIS, the min-cut reference (docs/design.md#partition): multilevel recursive bisection
 // (METIS_PartGraphRecursive) of each island of more than nmax bodies, edge weights = constraint
 // counts, unit vertex weights (nmax caps bodies, whatever their mass), fixed seed.
 //
@@ -11,11 +11,11 @@
 //   (10^4 bodies, nmax 32: 358 final parts instead of 430, same cut). Where that many parts would
 //   be one body each, every body is its own part and METIS is not called.
 //
-// METIS's parts are then made to meet §5: each is cut into pieces by breadth-first growth restricted
-// to the part's bodies (seeded at its lowest-index unassigned body, at most nmax bodies per piece).
-// A connected METIS part of at most nmax bodies stays whole; a disconnected one becomes one piece
-// per connected component; an oversized one is cut into breadth-first chunks of nmax (each
-// connected, being a breadth-first prefix) and a remainder.
+// METIS's parts are then made to meet docs/design.md#partition: each is cut into pieces by breadth-first
+// growth restricted to the part's bodies (seeded at its lowest-index unassigned body, at most nmax bodies per
+// piece). A connected METIS part of at most nmax bodies stays whole; a disconnected one becomes one piece per
+// connected component; an oversized one is cut into breadth-first chunks of nmax (each connected, being a
+// breadth-first prefix) and a remainder.
 #include <metis.h>
 
 #include <algorithm>

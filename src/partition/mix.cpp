@@ -1,10 +1,11 @@
-// MIX (DESIGN.md §5): MinDP growth while |part| < τ_mix · nmax, then the candidate of maximum gain,
+// MIX (docs/design.md#partition): MinDP growth while |part| < τ_mix · nmax, then the candidate of maximum
+// gain,
 //
 //   gain(β) = C_in(β) − C_out(β) = 2 C_in(β) − deg(β),
 //
-// where C_in(β) counts the constraints (edge weights) between β and bodies already in the part, and
-// C_out(β) = deg(β) − C_in(β) those between β and every other dynamic body (unassigned or in earlier
-// parts); constraints with static bodies are not edges and do not count (§4). Ties go to the lowest
+// where C_in(β) counts the constraints (edge weights) between β and bodies already in the part, and C_out(β)
+// = deg(β) − C_in(β) those between β and every other dynamic body (unassigned or in earlier parts);
+// constraints with static bodies are not edges and do not count (docs/design.md#graph). Ties go to the lowest
 // index. C_in is kept incrementally by the engine (each joining body adds its edge weights to its
 // candidates), so a candidate's gain only rises within a part and it is re-queued with each rise.
 #include "partition/grow.hpp"

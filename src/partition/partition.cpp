@@ -1,4 +1,4 @@
-// partition_graph: islands first (DESIGN.md §4), then the chosen partitioner on each island of more
+// partition_graph: islands first (docs/design.md#graph), then the chosen partitioner on each island of more
 // than nmax bodies; and the partitioners' and refiners' names. Adding a partitioner = one file with
 // its island entry point (partition/grow.hpp) + one line in kPartitioners.
 #include <stdexcept>
@@ -91,7 +91,8 @@ void partition_graph(const ConstraintGraph& graph, const PartitionParams& params
   for (std::size_t i = 0; i + 1 < island_offset.size(); ++i) {
     const int* nodes = island_nodes.data() + island_offset[i];
     const int count = island_offset[i + 1] - island_offset[i];
-    if (count <= params.nmax) {  // one sub-system without interface, whatever the partitioner (§4)
+    // One sub-system without interface, whatever the partitioner (docs/design.md#graph).
+    if (count <= params.nmax) {
       for (int k = 0; k < count; ++k) partition.part_of[nodes[k]] = s.part_count;
       ++s.part_count;
     } else {

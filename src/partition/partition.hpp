@@ -1,10 +1,9 @@
 #pragma once
-// Partitions of the constraint graph into sub-systems (DESIGN.md §5) and their refinement (§6).
-// A partition gives every graph node (dynamic body) a part id. Every partitioner and refiner
-// returns partitions whose parts are disjoint, cover all nodes, are connected in the graph, hold at
-// most nmax nodes and lie within one island; ids are 0..part_count-1, numbered in the order the
-// parts were made; the result depends only on the graph and the parameters (ties go to the lowest
-// node index).
+// Partitions of the constraint graph into sub-systems (docs/design.md#partition) and their refinement
+// (#refine). A partition gives every graph node (dynamic body) a part id. Every partitioner and refiner
+// returns partitions whose parts are disjoint, cover all nodes, are connected in the graph, hold at most nmax
+// nodes and lie within one island; ids are 0..part_count-1, numbered in the order the parts were made; the
+// result depends only on the graph and the parameters (ties go to the lowest node index).
 #include <rbpart/params.hpp>
 
 #include <string>
@@ -20,7 +19,7 @@ struct Partition {
   int part_count = 0;
 };
 
-// Quality of a partition (issue #4's report; DESIGN.md §9 stats columns).
+// Quality of a partition (issue #4's report; docs/design.md#contracts stats columns).
 struct PartitionQuality {
   int parts = 0;
   int min_bodies = 0, max_bodies = 0;  // bodies per part
@@ -36,7 +35,7 @@ struct PartitionQuality {
 void partition_by_islands(const ConstraintGraph& graph, const Islands& islands, Partition& partition);
 
 // Partitions `graph` with params.partitioner (not None). Islands of at most nmax nodes become one
-// part each whatever the partitioner (DESIGN.md §4); isolated nodes are parts of their own.
+// part each whatever the partitioner (docs/design.md#graph); isolated nodes are parts of their own.
 void partition_graph(const ConstraintGraph& graph, const PartitionParams& params, Partition& partition);
 
 // Refines `partition` in place with params.refiner (None: no change). Never raises the edge cut and

@@ -1,5 +1,5 @@
-// The quality report of a partition (issue #4, DESIGN.md §9 columns) and the check of its
-// properties (DESIGN.md §5), both O(n + m).
+// The quality report of a partition (issue #4, docs/design.md#contracts columns) and the check of its
+// properties (docs/design.md#partition), both O(n + m).
 #include <algorithm>
 #include <string>
 

@@ -1,5 +1,5 @@
-// FM refinement (DESIGN.md §6): single moves of interface bodies with gain α = E − I, the greedy rule
-// of the paper and classic Fiduccia–Mattheyses passes with rollback (an extension).
+// FM refinement (docs/design.md#refine): single moves of interface bodies with gain α = E − I, the greedy
+// rule of the paper and classic Fiduccia–Mattheyses passes with rollback (an extension).
 //
 // Every node that may go somewhere (an edge to another part that is not full) sits in a gain heap
 // keyed by its best move (gain, node). After every move, rollback included, only what the move can

@@ -1,5 +1,5 @@
 #pragma once
-// The refiners' priority queue of moves (DESIGN.md §6: gain buckets with incremental updates).
+// The refiners' priority queue of moves (docs/design.md#refine: gain buckets with incremental updates).
 // Gains are small integers, so bucket lists would do for the gain alone, but the tie rule (the
 // lowest node index wins) needs an order inside a bucket, which lists give only by scanning the
 // bucket. An indexed binary heap keeps the whole order (gain, then the tie-breaks) and updates an

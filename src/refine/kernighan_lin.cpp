@@ -1,4 +1,4 @@
-// KL refinement (DESIGN.md §6): swaps βi ∈ a ↔ βj ∈ b between adjacent parts, gain
+// KL refinement (docs/design.md#refine): swaps βi ∈ a ↔ βj ∈ b between adjacent parts, gain
 // α = D_i + D_j − 2c with D = E − I toward the other part, the legal pair of largest positive gain
 // first, until no positive gain is left (the paper's greedy rule).
 //

@@ -4,10 +4,10 @@
 
 namespace rbpart {
 
-// Greedy Kernighan–Lin (DESIGN.md §6): swaps the legal pair of largest positive gain until none.
+// Greedy Kernighan–Lin (docs/design.md#refine): swaps the legal pair of largest positive gain until none.
 void refine_kernighan_lin(RefineState& state);
 
-// Fiduccia–Mattheyses (DESIGN.md §6). Greedy (rollback false): moves the legal body of largest
+// Fiduccia–Mattheyses (docs/design.md#refine). Greedy (rollback false): moves the legal body of largest
 // positive gain until none. Rollback (classic FM, an extension): passes that take the best legal
 // move whatever its gain, lock moved bodies, and keep the pass's best prefix; repeated while a pass
 // lowers the cut.

@@ -1,5 +1,5 @@
 #pragma once
-// What KL and FM share (DESIGN.md §6): the partition being refined with its part sizes and member
+// What KL and FM share (docs/design.md#refine): the partition being refined with its part sizes and member
 // lists, each node's constraints per part, the legality of moves (a part is never emptied,
 // disconnected or filled beyond nmax) and the debug checks against from-scratch recomputation.
 #include <rbpart/params.hpp>
@@ -19,7 +19,7 @@ struct Connections {
   std::vector<std::pair<int, int>> external;
 };
 
-// The best single move of a node (FM's gain α = E − I, DESIGN.md §6): to the part that takes most
+// The best single move of a node (FM's gain α = E − I, docs/design.md#refine): to the part that takes most
 // of its constraints among the other parts it touches that are not full (ties: lowest part id).
 struct BestMove {
   int gain = 0;
@@ -74,7 +74,7 @@ class RefineState {
   }
 
   // params.debug_checks: recomputes the cut from scratch and checks the partition's properties
-  // (DESIGN.md §5, with nmax raised to any part that was already larger); throws std::logic_error
+  // (docs/design.md#partition, with nmax raised to any part that was already larger); throws std::logic_error
   // naming `where` on a mismatch.
   bool debug() const { return debug_; }
   void check(const char* where) const;

@@ -1,4 +1,4 @@
-// Exact mass properties of the shapes (DESIGN.md §2: M = blockdiag(m I, I_body), about the centre
+// Exact mass properties of the shapes (docs/design.md#dynamics: M = blockdiag(m I, I_body), about the centre
 // of mass). Closed forms for the primitives; a convex hull by signed tetrahedra over its faces.
 #include "scene/mass_properties.hpp"
 

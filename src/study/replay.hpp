@@ -1,7 +1,7 @@
 #pragma once
-// Replay: every configuration solves every recorded step's problem (study/capture.hpp) — partition,
-// refine and the substructured solve (DESIGN.md §5-7), each timed on its own — and the monolithic
-// direct solver solves it once more as the baseline. Times are medians over repeats.
+// Replay: every configuration solves every recorded step's problem (study/capture.hpp) — partition, refine
+// and the substructured solve (docs/design.md#partition, #refine, #substructured), each timed on its own —
+// and the monolithic direct solver solves it once more as the baseline. Times are medians over repeats.
 #include <rbpart/params.hpp>
 
 #include <functional>
@@ -30,7 +30,7 @@ struct StepMeasure {
   int parts = 0;                // sub-systems (islands for the direct baseline)
   int interface_rows = 0, interface_bodies = 0, edge_cut = 0;
   int loop_iterations = 0;      // interface/sub-system iterations (substructured only)
-  int fallbacks = 0;            // islands finished by the counted fallback (DESIGN.md §7)
+  int fallbacks = 0;            // islands finished by the counted fallback (docs/design.md#substructured)
   // max_j |lambda_j - live lambda_j| / max_j |live lambda_j|: the answer is the live run's.
   double lambda_error = 0;
 };

@@ -53,7 +53,7 @@ struct StudySpec {
 constexpr int kStudyNmax = 32;
 constexpr int kQuickNmax = 8;  // the quick preset's small scenes (study_preset)
 
-// The presets: "paper" (DESIGN.md §8 scenes, 500 steps, Rock Pile scaling 50-800 rocks, three
+// The presets: "paper" (docs/design.md#scenes scenes, 500 steps, Rock Pile scaling 50-800 rocks, three
 // repeats) and "quick" (the same grid on small scenes and short runs, for CI). InputError otherwise.
 StudySpec study_preset(const std::string& name);
 

@@ -1,5 +1,5 @@
 // Collision stage: contact points, distances, normals and persistent ids against geometry worked
-// out by hand (DESIGN.md §1 "collide").
+// out by hand (docs/design.md#step "collide").
 #include "collision/collide.hpp"
 
 #include <gtest/gtest.h>

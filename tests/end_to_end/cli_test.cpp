@@ -6,8 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "support/cli_test.hpp"
 
@@ -26,6 +29,7 @@ class Cli : public rbpart::test::CliTest {
     EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(path("s.csv")));
+    EXPECT_FALSE(fs::exists(path("s.csv.json")));
     EXPECT_FALSE(fs::exists(path("s.json")));
   }
 };
@@ -112,22 +116,80 @@ TEST_F(Cli, ExportedSceneReproducesBuiltinRun) {
   EXPECT_NE(a.out.find("state hash"), std::string::npos);
 }
 
-TEST_F(Cli, StatsHaveEveryColumnAndOneLinePerStep) {
+TEST_F(Cli, StatsHaveTheHeaderOnLineOneEveryColumnAndOneLinePerStep) {
   const Result r = run("simulate --scene box_stack --steps 5 --stats " + path("s.csv"));
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream f(path("s.csv"));
-  std::string line, header;
+  std::string header, line;
+  std::getline(f, header);
+  EXPECT_EQ(header.rfind("step,bodies,", 0), 0u) << header;
   int data = 0;
   while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header.empty()) header = line;
-    else ++data;
+    EXPECT_FALSE(line.empty() || line[0] == '#') << line;
+    ++data;
   }
   EXPECT_EQ(data, 5);
   for (const char* col : {"step", "bodies", "contacts", "rows", "parts", "interface_rows", "interface_bodies",
                           "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "fallback",
-                          "blcp_residual", "max_penetration", "kinetic_energy"})
+                          "blcp_residual", "max_penetration", "kinetic_energy", "unsettled"})
     EXPECT_NE(header.find(col), std::string::npos) << col;
+}
+
+// What a user's script does: Python's csv.DictReader on the stats, json on their sidecar.
+TEST_F(Cli, StatsReadByPythonsCsvDictReaderWithTheParametersInTheSidecar) {
+  if (std::system("python3 -c '' 2>/dev/null") != 0) GTEST_SKIP() << "no python3";
+  const Result r = run("simulate --scene box_stack --steps 5 --erp 0.25 --stats " + path("s.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string script = write("read.py", R"(import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1], newline="")))
+assert [int(row["step"]) for row in rows] == [1, 2, 3, 4, 5], rows
+assert all(float(row["kinetic_energy"]) >= 0 and float(row["solve_ms"]) >= 0 for row in rows)
+params = json.load(open(sys.argv[1] + ".json"))
+assert params["scene"] == "box_stack" and params["steps"] == "5" and float(params["erp"]) == 0.25, params
+print("read", len(rows), "rows")
+)");
+  const std::string out = path("python.txt");
+  const int status = std::system(("python3 " + script + " " + path("s.csv") + " >" + out + " 2>&1").c_str());
+  EXPECT_EQ(status, 0) << read(out);
+  EXPECT_EQ(read(out), "read 5 rows\n");
+}
+
+// The summary names the run's total time, its slowest step and its unsettled steps, as the stats say
+// (one factorisation per island and step leaves most of a landing pile's steps unsettled).
+TEST_F(Cli, SummaryNamesTotalSlowestStepAndUnsettledSteps) {
+  const Result r = run("simulate --scene rock_pile --set rocks=20 --steps 40 --solver newton --max-factorizations 1 "
+                       "--stats " + path("s.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream f(path("s.csv"));
+  std::string line;
+  std::getline(f, line);
+  std::vector<std::string> columns;
+  std::stringstream h(line);
+  for (std::string c; std::getline(h, c, ',');) columns.push_back(c);
+  const auto column = [&](const char* name) {
+    return std::find(columns.begin(), columns.end(), name) - columns.begin();
+  };
+  const auto total_col = column("total_ms"), unsettled_col = column("unsettled");
+  int step = 0, slowest = 0, unsettled = 0, last_unsettled = 0;
+  double slowest_ms = -1;
+  while (std::getline(f, line)) {
+    ++step;
+    std::vector<std::string> v;
+    std::stringstream l(line);
+    for (std::string c; std::getline(l, c, ',');) v.push_back(c);
+    if (std::stod(v[total_col]) > slowest_ms) slowest_ms = std::stod(v[total_col]), slowest = step;
+    if (std::stoi(v[unsettled_col]) > 0) ++unsettled, last_unsettled = step;
+  }
+  ASSERT_EQ(step, 40);
+  std::smatch m;
+  const std::regex first_line(R"(\ntotal [0-9.e+-]+ s \(solve [0-9.e+-]+ s\); median step .*; slowest step ([0-9]+): )");
+  ASSERT_TRUE(std::regex_search(r.out, m, first_line)) << r.out;
+  EXPECT_EQ(std::stoi(m[1]), slowest) << r.out;
+  const std::string expected =
+      unsettled == 0 ? std::string("unsettled steps: none\n")
+                     : "unsettled steps: " + std::to_string(unsettled) + " of 40, the last at step " +
+                           std::to_string(last_unsettled) + "\n";
+  EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/cli_test.hpp"
@@ -120,6 +121,26 @@ TEST_F(PartitionCli, MassesDriveMr) {
   EXPECT_EQ(out_, "0\n0\n0\n0\n0\n0\n0\n1\n");  // default masses 1
 }
 
+// --parts K, as METIS users ask: the cap of K balanced parts, ceil(n / K), reported beside the parts made.
+TEST_F(PartitionCli, PartsKSetsTheCapOfKBalancedParts) {
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner metis --parts 2 --report " + path("r.json")), 0)
+      << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n1\n1\n1\n1\n");  // the two cliques, cut at the bridge
+  nlohmann::json j = nlohmann::json::parse(read(path("r.json")));
+  EXPECT_EQ(j["requested_parts"], 2);
+  EXPECT_EQ(j["nmax"], 4);
+  EXPECT_EQ(j["parts"], 2);
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner bfs --parts 3 --report " + path("r.json")), 0)
+      << err_;
+  j = nlohmann::json::parse(read(path("r.json")));
+  EXPECT_EQ(j["nmax"], 3);  // ceil(8 / 3)
+  EXPECT_LE(j["max_bodies"].get<int>(), 3);
+  EXPECT_GE(j["parts"].get<int>(), 3);
+  // Without --parts the report has no requested_parts.
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner bfs --nmax 4 --report " + path("r.json")), 0);
+  EXPECT_FALSE(nlohmann::json::parse(read(path("r.json"))).contains("requested_parts"));
+}
+
 TEST_F(PartitionCli, BadOptionsExitTwo) {
   const std::string g = "partition --graph " + graph_;
   expect_rejected(g + " --partitioner bfs --nmax 0", "--nmax must be at least 1");
@@ -131,6 +152,8 @@ TEST_F(PartitionCli, BadOptionsExitTwo) {
   expect_rejected(g + " --partitioner bfs --refine sa --nmax 4", "unknown refiner 'sa'");
   expect_rejected(g + " --nmax 4", "--partitioner is required");
   expect_rejected(g + " --partitioner bfs --nmax four", "--nmax");
+  expect_rejected(g + " --partitioner bfs --parts 0", "--parts: must be at least 1");
+  expect_rejected(g + " --partitioner bfs --parts 2 --nmax 4", "excludes");
   expect_rejected("partition --partitioner bfs", "--graph is required");
 }
 
@@ -164,13 +187,13 @@ TEST_F(PartitionCli, SimulateReportsThePartitionPerStep) {
                    "--nmax 8 --quiet --stats " + path("s.csv")),
             0)
       << err_;
+  const nlohmann::json params = nlohmann::json::parse(read(path("s.csv.json")));
+  for (const auto& [key, value] : {std::pair<const char*, const char*>{"partitioner", "mix"},
+                                   {"refiner", "none"}, {"nmax", "8"}, {"tau_mix", "0.5"}})
+    EXPECT_EQ(params.value(key, ""), value) << key;
   std::istringstream csv(read(path("s.csv")));
   std::string line, header;
-  std::vector<std::string> params;
-  while (std::getline(csv, line) && line.rfind("# ", 0) == 0) params.push_back(line);
-  header = line;
-  for (const char* p : {"# partitioner=mix", "# refiner=none", "# nmax=8", "# tau_mix=0.5"})
-    EXPECT_NE(std::find(params.begin(), params.end(), p), params.end()) << p;
+  std::getline(csv, header);
   std::vector<std::string> columns;
   std::stringstream h(header);
   for (std::string c; std::getline(h, c, ',');) columns.push_back(c);

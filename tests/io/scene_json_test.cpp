@@ -1,4 +1,5 @@
-// Scene files: export -> load reproduces a scene bit for bit, defaults, normalisation (DESIGN.md §9).
+// Scene files: export -> load reproduces a scene bit for bit, defaults, normalisation
+// (docs/design.md#contracts).
 #include "io/scene_json.hpp"
 
 #include "core/error.hpp"

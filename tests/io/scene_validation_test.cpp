@@ -1,5 +1,5 @@
 // Scene file validation: each kind of bad input gets one line naming the file, the field path (with
-// the body or joint index) and the problem (DESIGN.md §9).
+// the body or joint index) and the problem (docs/design.md#contracts).
 #include "core/error.hpp"
 #include "io/scene_json.hpp"
 

@@ -1,10 +1,12 @@
-// Stats CSV: parameter comments, the column header, one exact line per step, written atomically.
+// Stats CSV: the column header on line 1, one exact line per step, the parameters in a JSON sidecar;
+// both written atomically.
 #include "io/stats_csv.hpp"
 
 #include "core/error.hpp"
 #include "io/temp_dir.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <map>
 
@@ -65,24 +67,28 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
   second.max_penetration = -0.0;
   writer.write(second);
   // Nothing is visible before finish().
-  EXPECT_EQ(dir.entries().size(), 1u);
-  EXPECT_NE(dir.entries()[0], "stats.csv");
+  EXPECT_EQ(dir.entries().size(), 2u);
+  for (const std::string& name : dir.entries()) EXPECT_TRUE(name != "stats.csv" && name != "stats.csv.json") << name;
   writer.finish();
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"stats.csv"});
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"stats.csv", "stats.csv.json"}));
 
+  // The parameters, in the sidecar only, with their text as given (a line break included).
+  const nlohmann::ordered_json params = nlohmann::ordered_json::parse(test::read_text(dir.file("stats.csv.json")));
+  EXPECT_EQ(params, (nlohmann::ordered_json{{"erp", "0.2"}, {"scene", "two\nlines"}}));
+  EXPECT_EQ(params.begin().key(), "erp");
+
+  // Line 1 is the header: no comment lines.
   const std::vector<std::string> lines = split(test::read_text(path), '\n');
-  ASSERT_EQ(lines.size(), 5u);
-  EXPECT_EQ(lines[0], "# erp=0.2");
-  EXPECT_EQ(lines[1], "# scene=two lines");  // a control character cannot break the comment
-  EXPECT_EQ(lines[2],
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0],
             "step,bodies,contacts,rows,islands,parts,interface_rows,interface_bodies,edge_cut,collide_ms,"
             "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,total_ms,solver_iterations,"
             "friction_passes,factorizations,fallback,blcp_residual,max_penetration,kinetic_energy,loop_iterations,"
             "factor_ms,schur_ms,interface_ms,subsystem_ms,work_ms,critical_path_ms,unsettled");
-  EXPECT_EQ(split(lines[2], ',').size(), StatsCsvWriter::kColumns.size());
+  EXPECT_EQ(split(lines[0], ',').size(), StatsCsvWriter::kColumns.size());
 
   // Row 1: columns 1..21 and 25..32 hold their own number (the times n + 0.5), 22..24 are exact.
-  const std::vector<std::string> row = split(lines[3], ',');
+  const std::vector<std::string> row = split(lines[1], ',');
   ASSERT_EQ(row.size(), StatsCsvWriter::kColumns.size());
   for (int c = 0; c < static_cast<int>(row.size()); ++c) {
     if (c >= 21 && c <= 23) continue;
@@ -94,7 +100,7 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
   EXPECT_EQ(std::strtod(row[23].c_str(), nullptr), first.kinetic_energy);
 
   // Row 2: times to six significant digits; the sign of a zero is kept.
-  const std::vector<std::string> row2 = split(lines[4], ',');
+  const std::vector<std::string> row2 = split(lines[2], ',');
   ASSERT_EQ(row2.size(), StatsCsvWriter::kColumns.size());
   EXPECT_EQ(row2[0], "2");
   EXPECT_EQ(row2[14], "1.23457");
@@ -108,6 +114,10 @@ TEST(StatsCsv, AbandonedWriterLeavesNothing) {
     writer.write(numbered_stats());
   }
   EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(StatsCsv, SidecarPathIsTheCsvPathWithJsonAppended) {
+  EXPECT_EQ(StatsCsvWriter::sidecar_path("out/run.csv"), "out/run.csv.json");
 }
 
 TEST(StatsCsv, UnwritablePathIsAnInputError) {

@@ -1,5 +1,5 @@
-// The growth rules of DESIGN.md §5 step by step on small hand-made graphs; expected parts worked out
-// by hand in the comments.
+// The growth rules of docs/design.md#partition step by step on small hand-made graphs; expected parts worked
+// out by hand in the comments.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -104,7 +104,7 @@ TEST(GrowthRules, MrComparesWithTheLightestBodyNotTheSeed) {
 
 TEST(GrowthRules, IslandsOfAtMostNmaxAreOnePartWhateverTheRule) {
   // Island {0, 2, 4} (masses 1, 1000, 1) and island {1, 3} and isolated 5; nmax 3. MR would split
-  // the first island by mass, but an island that fits is one sub-system (DESIGN.md §4).
+  // the first island by mass, but an island that fits is one sub-system (docs/design.md#graph).
   const ConstraintGraph g = make_graph(6, {{0, 2}, {2, 4}, {1, 3}}, {1, 1, 1000, 1, 1, 1});
   for (PartitionerKind kind : {PartitionerKind::Bfs, PartitionerKind::MinDp, PartitionerKind::MaxDp,
                                PartitionerKind::Mr, PartitionerKind::Mix, PartitionerKind::Metis})

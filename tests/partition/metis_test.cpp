@@ -1,4 +1,4 @@
-// METIS as the min-cut reference (DESIGN.md §5): the obvious minimum cuts on small graphs, parts
+// METIS as the min-cut reference (docs/design.md#partition): the obvious minimum cuts on small graphs, parts
 // made connected and capped, and a lower cut than the growth partitioners on pile-like graphs.
 #include <gtest/gtest.h>
 

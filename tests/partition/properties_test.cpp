@@ -1,6 +1,6 @@
-// Every partitioner on hundreds of generated graphs (DESIGN.md §5): cover, disjoint, connected,
-// at most nmax, islands of at most nmax kept whole, deterministic; the growth partitioners equal the
-// naive reference of reference.hpp exactly, and close a part early only when §5 says so.
+// Every partitioner on hundreds of generated graphs (docs/design.md#partition): cover, disjoint, connected,
+// at most nmax, islands of at most nmax kept whole, deterministic; the growth partitioners equal the naive
+// reference of reference.hpp exactly, and close a part early only when docs/design.md#partition says so.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -98,9 +98,9 @@ TEST(PartitionProperties, GrowthPartitionersEqualTheNaiveReference) {
     }
 }
 
-// DESIGN.md §5's closing rule: a part of fewer than nmax bodies closed because no candidate was
-// left, so each of its neighbours was assigned earlier (a lower part id) — or, for MR, fails the
-// mass ratio against the part's lightest body.
+// The closing rule of docs/design.md#partition: a part of fewer than nmax bodies closed because no candidate
+// was left, so each of its neighbours was assigned earlier (a lower part id) — or, for MR, fails the mass
+// ratio against the part's lightest body.
 TEST(PartitionProperties, PartsCloseEarlyOnlyWithoutCandidates) {
   for (const GeneratedGraph& gg : suite())
     for (PartitionerKind kind : kAll) {

@@ -1,6 +1,6 @@
 #pragma once
-// Naive references for the partition tests, written from DESIGN.md §4-5's text without the
-// library's queues: components by union-find, and each growth rule by scanning every candidate at
+// Naive references for the partition tests, written from the text of docs/design.md#graph and #partition
+// without the library's queues: components by union-find, and each growth rule by scanning every candidate at
 // every step (O(n^2) per island; for graphs of a few hundred nodes).
 #include <algorithm>
 #include <cstdint>
@@ -44,7 +44,7 @@ inline int edge_weight(const ConstraintGraph& g, int a, int b) {
   return 0;
 }
 
-// DESIGN.md §5 read literally, for BFS, MinDP, MaxDP, MR and MIX.
+// docs/design.md#partition read literally, for BFS, MinDP, MaxDP, MR and MIX.
 inline Partition reference_partition(const ConstraintGraph& g, const PartitionParams& p) {
   const int n = g.node_count();
   const std::vector<int> comp = components(g);

@@ -1,4 +1,4 @@
-// The scenes' constraint graphs (DESIGN.md §5: properties "checked in tests on every scene"):
+// The scenes' constraint graphs (docs/design.md#partition: properties "checked in tests on every scene"):
 // small versions of the paper's scenes stepped until contacts form, their graphs partitioned by
 // every method; and the World's partition and refine stages (stats from measure_partition).
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // KL and FM on hand-made graphs whose gains, moves and results are worked out by hand from the
-// formulas of DESIGN.md §6: FM α = E − I, KL α = (E_i − I_i) + (E_j − I_j) − 2c.
+// formulas of docs/design.md#refine: FM α = E − I, KL α = (E_i − I_i) + (E_j − I_j) − 2c.
 #include <gtest/gtest.h>
 
 

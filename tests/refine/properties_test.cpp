@@ -1,6 +1,6 @@
 // Refinement over hundreds of generated graphs (piles, geometric graphs, grids, folded chains, stars,
 // cliques, islands, isolated nodes, one node, none), from every partitioner and from random
-// connected partitions: the partition keeps every property of DESIGN.md §5, the cut never rises,
+// connected partitions: the partition keeps every property of docs/design.md#partition, the cut never rises,
 // the result is deterministic, and the refiner stopped where its rule says (checked from scratch).
 #include <gtest/gtest.h>
 

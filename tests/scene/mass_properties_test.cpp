@@ -1,4 +1,4 @@
-// Mass properties against closed forms and independent integrals (DESIGN.md §2).
+// Mass properties against closed forms and independent integrals (docs/design.md#dynamics).
 #include "scene/mass_properties.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The paper's scenes (DESIGN.md §8) on shortened runs with the direct solver: the state stays finite
+// The paper's scenes (docs/design.md#scenes) on shortened runs with the direct solver: the state stays finite
 // and inside the world, contacts stay shallow, joints stay closed, no energy is created, and the
 // constraint graph has the character the partitioning study needs (issue #3). The full-length runs
 // (500 steps, 200 and 600 rocks) are measured by `rbpart simulate`, not here, to keep CI short.

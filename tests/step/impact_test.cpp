@@ -1,7 +1,7 @@
-// Fast impacts through whole steps (DESIGN.md §1-2): bodies that move further in one step than the
-// contact margin, or than the thickness of what they hit, must be stopped by the speculative
-// contacts (collide.hpp: the pair's margin grows with its approach speed) rather than tunnel or
-// sink, and the margin must not grow for bodies at rest.
+// Fast impacts through whole steps (docs/design.md#step, #dynamics): bodies that move further in one step
+// than the contact margin, or than the thickness of what they hit, must be stopped by the speculative
+// contacts (collide.hpp: the pair's margin grows with its approach speed) rather than tunnel or sink, and the
+// margin must not grow for bodies at rest.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 

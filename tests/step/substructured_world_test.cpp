@@ -1,9 +1,9 @@
-// The substructured solver inside the time step (`simulate --solver substructured`): from the same
-// state it gives the monolithic direct solver's impulses up to round-off (DESIGN.md §7), so steps
-// of a scene leave both worlds in the same state up to round-off, and the step's stats report the
-// partition and the loop it ran. The comparison runs while the direct solver's friction loop
-// converges (residual <= 1e-9): a step that ends at the pass cap is an approximate answer whose
-// digits depend on the path taken, so the two runs part there by more than round-off.
+// The substructured solver inside the time step (`simulate --solver substructured`): from the same state it
+// gives the monolithic direct solver's impulses up to round-off (docs/design.md#substructured), so steps of a
+// scene leave both worlds in the same state up to round-off, and the step's stats report the partition and
+// the loop it ran. The comparison runs while the direct solver's friction loop converges (residual <= 1e-9):
+// a step that ends at the pass cap is an approximate answer whose digits depend on the path taken, so the two
+// runs part there by more than round-off.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 

@@ -207,7 +207,8 @@ TEST_F(TinyStudy, WritesEveryRowOfEveryTable) {
   for (const Row& r : table) {
     EXPECT_EQ(r.at("recorded_steps"), "4");
     EXPECT_EQ(r.at("simulated_steps"), "16");
-    // Every configuration returned the live run's impulses (DESIGN.md §7: exact, or a fallback).
+    // Every configuration returned the live run's impulses (docs/design.md#substructured: exact, or a
+    // fallback).
     EXPECT_LE(std::stod(r.at("max_lambda_error")), 1e-8) << key(r);
     EXPECT_GT(std::stod(r.at("mean_parts")), 0) << key(r);
   }
