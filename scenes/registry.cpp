@@ -1,11 +1,69 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <stdexcept>
+#include <string>
 
 #include "core/error.hpp"
+#include "io/text_format.hpp"
+#include "scene/limits.hpp"
+#include "scene/mass_properties.hpp"
 #include "scenes/scenes.hpp"
 
 namespace rbpart {
+
+namespace {
+
+// What a parameter may be, by name: a name means the same in every scene. Counts and switches are
+// whole numbers (a seed of 1.5 or boxes=-5 would otherwise be truncated or clamped silently), counts
+// are capped so that a scene fits in memory, and physical values are kept where the scene-file
+// checks keep them (limits.hpp).
+struct Domain {
+  double lo, hi;
+  bool lo_open;  // (lo, hi] rather than [lo, hi]
+  bool whole;
+};
+
+const Domain* domain_of(const std::string& name) {
+  using namespace limits;
+  static const Domain count{1, kMaxCount, false, true}, small_count{1, 100, false, true},
+      points{4, 100, false, true}, flag{0, 1, false, true}, seed{0, 9007199254740992.0, false, true},
+      steps{1, 2147483647.0, false, true}, dt{0, kMaxDt, true, false}, length{0, kMaxLength, true, false},
+      height{0, kMaxLength, false, false}, mass{kMinMass, kMaxMass, false, false},
+      density{0, kMaxMass, true, false}, ratio{0, kMaxMass, true, false}, friction{0, 1e3, false, false},
+      angle{-360, 360, false, false}, fraction{0, 1, false, false};
+  static const std::map<std::string, const Domain*> table = {
+      {"rocks", &count}, {"boxes", &count}, {"links", &count}, {"layers", &small_count}, {"logs", &small_count},
+      {"points", &points}, {"seed", &seed}, {"steps", &steps}, {"mass_ratio_set", &flag}, {"round", &flag},
+      {"dt", &dt}, {"friction", &friction}, {"min_size", &length}, {"max_size", &length}, {"size", &length},
+      {"radius", &length}, {"half_length", &length}, {"bar_radius", &length}, {"block_size", &length},
+      {"length", &length}, {"height", &height}, {"bar_height", &height}, {"drop_height", &height},
+      {"mass", &mass}, {"mass_even", &mass}, {"mass_odd", &mass}, {"density", &density},
+      {"end_ratio", &ratio}, {"block_ratio", &ratio}, {"angle", &angle}, {"bar_at", &fraction}};
+  const auto it = table.find(name);
+  return it == table.end() ? nullptr : it->second;
+}
+
+// Throws InputError "scene <scene>: parameter '<name>' must ..." unless `value` lies in its domain.
+void check_parameter(const std::string& scene, const std::string& name, double value, const std::string& text) {
+  const Domain* d = domain_of(name);
+  if (!d) throw std::logic_error("scene " + scene + ": parameter '" + name + "' has no domain in registry.cpp");
+  const bool inside = (d->lo_open ? value > d->lo : value >= d->lo) && value <= d->hi &&
+                      (!d->whole || value == std::floor(value));
+  if (inside) return;
+  throw InputError("scene " + scene + ": parameter '" + name + "' must be " + (d->whole ? "a whole number " : "") +
+                   "in " + (d->lo_open ? "(" : "[") + round_trip(d->lo) + ", " + round_trip(d->hi) + "] (got " + text + ")");
+}
+
+}  // namespace
+
+void check_scene_parameters(const std::string& scene, const SceneParameters& values) {
+  for (const auto& [name, value] : values) check_parameter(scene, name, value, round_trip(value));
+  if (values.count("min_size") && values.count("max_size") && values.at("min_size") > values.at("max_size"))
+    throw InputError("scene " + scene + ": parameter 'min_size' (" + round_trip(values.at("min_size")) +
+                     ") must not exceed 'max_size' (" + round_trip(values.at("max_size")) + ")");
+}
 
 const std::vector<SceneInfo>& builtin_scenes() {
   static const std::vector<SceneInfo> scenes = {
@@ -28,9 +86,20 @@ SceneDef make_builtin_scene(const std::string& name,
       const double v = std::strtod(text.c_str(), &end);
       if (text.empty() || *end != '\0' || !std::isfinite(v))
         throw InputError("scene " + name + ": parameter '" + key + "' needs a finite number (got '" + text + "')");
+      check_parameter(name, key, v, text);
       values[key] = v;
     }
-    return info.make(values);
+    check_scene_parameters(name, values);
+    SceneDef scene = info.make(values);
+    // The bodies pass the checks a scene file's bodies pass (sizes, masses, hull volume).
+    for (const BodyDef& body : scene.bodies) {
+      try {
+        mass_properties(body);
+      } catch (const InputError& error) {
+        throw InputError("scene " + name + ": " + error.what());
+      }
+    }
+    return scene;
   }
   throw InputError("unknown scene '" + name + "' (rbpart scenes lists the built-ins)");
 }

@@ -30,8 +30,14 @@ struct SceneInfo {
 
 const std::vector<SceneInfo>& builtin_scenes();
 
+// Throws InputError naming the first parameter outside its domain (a whole number where a count, a
+// switch or a seed is meant; counts capped; physical values within src/scene/limits.hpp), or
+// min_size > max_size.
+void check_scene_parameters(const std::string& scene, const SceneParameters& values);
+
 // Builds a built-in scene with `overrides` ("name" -> value text) applied over its defaults.
-// Throws InputError naming an unknown scene, an unknown parameter or a non-numeric value.
+// Throws InputError naming an unknown scene, an unknown parameter, a non-numeric value, a value
+// outside its domain (check_scene_parameters) or a body that a scene file could not hold.
 SceneDef make_builtin_scene(const std::string& name,
                             const std::vector<std::pair<std::string, std::string>>& overrides = {});
 

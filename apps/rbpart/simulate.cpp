@@ -9,8 +9,11 @@
 
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/progress.hpp"
 #include "core/timer.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/limits.hpp"
 #include "io/recording.hpp"
 #include "io/state_json.hpp"
 #include "io/stats_csv.hpp"
@@ -60,6 +63,8 @@ int run_simulate(const Options& o) {
   if (!o.stats_path.empty()) {
     stats.emplace(o.stats_path, params);
   }
+  std::optional<AtomicFile> state;  // written at the end, but a bad path must not wait for the run
+  if (!o.state_path.empty()) state.emplace(o.state_path);
   std::optional<RecordingWriter> recording;
   if (!o.record_path.empty()) {
     const std::string run_channel =
@@ -74,7 +79,10 @@ int run_simulate(const Options& o) {
   long loop_iterations = 0;
   Progress progress("simulate " + scene.name, steps);
   const Timer run_timer;
-  for (int i = 0; i < steps; ++i) {
+  // Ctrl-C or SIGTERM ends the run after the step under way; the steps done are kept (below).
+  defer_interrupts(true);
+  int done = 0;
+  for (int i = 0; i < steps && !interrupt_signal(); ++i, ++done) {
     const StepStats& s = world.step();
     if (stats) stats->write(s);
     if (recording) recording->write_step(world, s);
@@ -93,9 +101,22 @@ int run_simulate(const Options& o) {
   }
   const double run_s = run_timer.ms() / 1000;
   progress.finish();
+  if (const int signal = interrupt_signal()) {
+    // The recording and the state are dropped (their temporary files with them): a recording cut
+    // short and a state that is not the last step's would pass for a whole run.
+    const std::string why = std::string("stopped by ") + signal_name(signal) + " after " + std::to_string(done) +
+                            " of " + std::to_string(steps) + " steps";
+    if (stats) stats->finish_incomplete(why);
+    std::fprintf(stderr, "rbpart: %s%s\n", why.c_str(),
+                 stats ? ("; the statistics of those are in " + o.stats_path).c_str() : "");
+    return 128 + signal;
+  }
   if (stats) stats->finish();
   if (recording) recording->finish();
-  if (!o.state_path.empty()) write_state_json(o.state_path, world.scene(), world.bodies(), world.time(), params);
+  if (state) {
+    state->write(state_to_json(world.scene(), world.bodies(), world.time(), params));
+    state->commit();
+  }
 
   if (!o.quiet) {
     int dynamic = 0;
@@ -118,14 +139,14 @@ int run_simulate(const Options& o) {
     if (solver_params.kind == SolverKind::Substructured)
       std::printf("substructured loop: %.2f iterations per step\n", steps ? double(loop_iterations) / steps : 0.0);
     const ConstraintGraph& g = world.graph();
-    int max_degree = 0, total_degree = 0;
+    WeightSum max_degree = 0, total_degree = 0;
     for (int i = 0; i < g.node_count(); ++i) {
       max_degree = std::max(max_degree, g.degree(i));
       total_degree += g.degree(i);
     }
-    std::printf("constraint graph at the last step: %d nodes, %d edges, mean degree %.2f, max degree %d\n",
+    std::printf("constraint graph at the last step: %d nodes, %d edges, mean degree %.2f, max degree %lld\n",
                 g.node_count(), g.edge_count(), g.node_count() ? double(total_degree) / g.node_count() : 0.0,
-                max_degree);
+                static_cast<long long>(max_degree));
     std::printf("state hash %016llx\n", static_cast<unsigned long long>(world.state_hash()));
   }
   return 0;
@@ -140,7 +161,7 @@ Run add_simulate(CLI::App& app) {
       ->required();
   cmd->add_option("--set", o->sets, "Built-in scene parameter key=value (repeatable)");
   cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(at_least(0));
-  cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(positive());
+  cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(open_closed(0, limits::kMaxDt));
   cmd->add_option("--solver", o->solver,
                   "BLCP solver (substructured needs --partitioner; newton: the one solver under construction)")
       ->check(CLI::IsMember({"direct", "pgs", "substructured", "newton"}))

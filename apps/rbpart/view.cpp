@@ -2,6 +2,7 @@
 // recording on 127.0.0.1 (cpp-httplib, Debian's libcpp-httplib-dev), or writes one self-contained
 // HTML file with --html.
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <cstring>
 
 #include "apps/rbpart/commands.hpp"
 #include "apps/rbpart/viewer_page.hpp"
@@ -135,10 +137,22 @@ int run_view(const Options& o) {
   server.Get("/viewer.css", serve_file(dir + "/viewer.css", "text/css; charset=utf-8"));
   server.Get("/recording.rbrec", serve_file(o.file, "application/octet-stream"));
 
+  // httplib's default sets SO_REUSEPORT, with which a second viewer binds a port the first one
+  // holds and the kernel splits the connections between them (issue #26): SO_REUSEADDR alone still
+  // allows a restart while the old connections linger in TIME_WAIT, but not two listeners.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   // Loopback only: the recording is the user's data, not for the network.
+  errno = 0;
   const int port = o.port == 0 ? server.bind_to_any_port("127.0.0.1") : (server.bind_to_port("127.0.0.1", o.port) ? o.port : -1);
+  if (port <= 0 && errno == EADDRINUSE)
+    throw InputError("--port " + std::to_string(o.port) + ": 127.0.0.1:" + std::to_string(o.port) +
+                     " is already in use (another rbpart view?); choose another port");
   if (port <= 0)
-    throw InputError("cannot listen on 127.0.0.1:" + std::to_string(o.port) + " (in use?); choose another --port");
+    throw InputError("--port " + std::to_string(o.port) + ": cannot listen on 127.0.0.1:" + std::to_string(o.port) +
+                     (errno ? std::string(": ") + std::strerror(errno) : std::string()));
   std::printf("rbpart view: http://127.0.0.1:%d/#src=recording.rbrec&name=%s\n", port, url_encode(name).c_str());
   std::printf("serving %s and the viewer from %s; Ctrl-C stops\n", o.file.c_str(), dir.c_str());
   std::fflush(stdout);

@@ -5,8 +5,8 @@
 
 namespace rbpart {
 
-int ConstraintGraph::degree(int node) const {
-  return std::accumulate(weight.begin() + offset[node], weight.begin() + offset[node + 1], 0);
+WeightSum ConstraintGraph::degree(int node) const {
+  return std::accumulate(weight.begin() + offset[node], weight.begin() + offset[node + 1], WeightSum{0});
 }
 
 namespace {

@@ -110,10 +110,12 @@ MetisGraph parse_metis_graph(std::istream& in, const std::string& name) {
   out.ncon = ncon;
   ConstraintGraph& g = out.graph;
   g.offset.assign(1, 0);
-  std::vector<int> line_of(n), listed_by(n, -1);
+  // Nothing is sized by the header's n or m: a 3-line file may claim 2e9 vertices (issue #26), so
+  // memory grows only with the lines actually read, and the counts are checked against them.
+  std::vector<int> line_of, neighbours;
   for (int v = 0; v < n; ++v) {
     if (!r.next()) r.fail("file ends after " + std::to_string(v) + " of " + std::to_string(n) + " vertex lines");
-    line_of[v] = r.number();
+    line_of.push_back(r.number());
     const auto& t = r.tokens();
     if (static_cast<int>(t.size()) < ncon) r.fail("fewer than " + std::to_string(ncon) + " vertex weights");
     for (int c = 0; c < ncon; ++c) {
@@ -127,13 +129,15 @@ MetisGraph parse_metis_graph(std::istream& in, const std::string& name) {
       const int u = r.integer(t[k], "neighbour");
       if (u < 1 || u > n) r.fail("neighbour " + t[k] + " is outside 1.." + std::to_string(n));
       if (u - 1 == v) r.fail("self loop on vertex " + std::to_string(v + 1));
-      if (listed_by[u - 1] == v) r.fail("neighbour " + t[k] + " listed twice");
-      listed_by[u - 1] = v;
       const int w = edge_weights ? r.integer(t[k + 1], "edge weight") : 1;
       if (w < 1) r.fail("edge weight " + t[k + 1] + " is not positive");
       g.adjacency.push_back(u - 1);
       g.weight.push_back(w);
     }
+    neighbours.assign(g.adjacency.begin() + g.offset.back(), g.adjacency.end());
+    std::sort(neighbours.begin(), neighbours.end());
+    const auto twice = std::adjacent_find(neighbours.begin(), neighbours.end());
+    if (twice != neighbours.end()) r.fail("neighbour " + std::to_string(*twice + 1) + " listed twice");
     g.offset.push_back(static_cast<int>(g.adjacency.size()));
   }
   while (r.next())

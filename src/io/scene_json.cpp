@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/text_format.hpp"
+#include "scene/limits.hpp"
 #include "scene/mass_properties.hpp"
 
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <initializer_list>
+#include <limits>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -186,7 +188,10 @@ class SceneReader {
     SceneDef scene;
     if (const Json* v = find(root, "name")) scene.name = string(*v, "name");
     if (const Json* v = find(root, "gravity")) scene.gravity = vec3(*v, "gravity");
-    if (const Json* v = find(root, "dt")) scene.dt = positive(*v, "dt");
+    if (const Json* v = find(root, "dt")) {
+      scene.dt = positive(*v, "dt");
+      if (scene.dt > limits::kMaxDt) fail("dt", "must be at most " + round_trip(limits::kMaxDt) + " s" + got(scene.dt));
+    }
     if (const Json* v = find(root, "friction")) scene.friction = non_negative(*v, "friction");
     if (const Json* v = find(root, "steps")) {
       const std::int64_t steps = integer(*v, "steps");
@@ -331,7 +336,12 @@ class SceneReader {
     if (joint.type == JointType::Hinge) {
       // Kept as given (the engine normalises it), so that an exported scene loads back unchanged.
       joint.axis = vec3(require(value, path, "axis"), axis_path);
-      if (joint.axis.isZero(0)) fail(axis_path, "must not be zero");
+      // The engine normalises it: its squared norm must be a normal number (1e-200 squared is 0).
+      const double norm2 = joint.axis.squaredNorm();
+      if (!(norm2 >= std::numeric_limits<double>::min() && std::isfinite(norm2)))
+        fail(axis_path, joint.axis.isZero(0) ? "must not be zero"
+                                             : "is too short or too long to normalise (squared norm " +
+                                                   round_trip(norm2) + ")");
     } else if (find(value, "axis")) {
       fail(axis_path, "only a hinge has an axis");
     }

@@ -31,14 +31,14 @@ void append_exact(std::string& line, double value) {
 }  // namespace
 
 StatsCsvWriter::StatsCsvWriter(const std::string& path, const ParamList& params)
-    : file_(path), sidecar_(sidecar_path(path)) {
+    : file_(path), params_(params_json(params)) {
+  if (classify_output(path).kind == OutputTarget::Replace) sidecar_.emplace(sidecar_path(path));
   std::string header;
   for (std::size_t i = 0; i < kColumns.size(); ++i) {
     header += kColumns[i];
     header += i + 1 < kColumns.size() ? ',' : '\n';
   }
   file_.write(header);
-  sidecar_.write(pretty_json(params_json(params)));
 }
 
 void StatsCsvWriter::write(const StepStats& s) {
@@ -77,7 +77,15 @@ void StatsCsvWriter::write(const StepStats& s) {
 
 void StatsCsvWriter::finish() {
   file_.commit();
-  sidecar_.commit();
+  if (sidecar_) {
+    sidecar_->write(pretty_json(params_));
+    sidecar_->commit();
+  }
+}
+
+void StatsCsvWriter::finish_incomplete(const std::string& why) {
+  params_["incomplete"] = why;
+  finish();
 }
 
 }  // namespace rbpart

@@ -1,13 +1,16 @@
 #pragma once
 // Per-step statistics as plain CSV (docs/design.md#contracts, docs/formats.md#stats-csv): one header
 // line, then one line per step, readable by any CSV reader. The run's parameters go to a JSON
-// sidecar beside it, `<path>.json`. Both files appear only when finish() succeeds.
+// sidecar beside it, `<path>.json`, with "incomplete" for a run stopped early; a CSV written
+// through (standard output, a FIFO) has none. Both files appear only when finish() or
+// finish_incomplete() succeeds.
 #include "io/atomic_file.hpp"
 #include "io/run_params.hpp"
 
 #include <rbpart/world.hpp>
 
 #include <array>
+#include <optional>
 #include <string>
 
 namespace rbpart {
@@ -31,10 +34,14 @@ class StatsCsvWriter {
   void write(const StepStats& stats);
   // Commits both files; without it (an exception, an abandoned run) nothing is left behind.
   void finish();
+  // Commits the steps written so far, the sidecar saying "incomplete": <why>: a run stopped early
+  // (Ctrl-C) keeps what it measured, and no reader takes it for a whole run.
+  void finish_incomplete(const std::string& why);
 
  private:
   AtomicFile file_;
-  AtomicFile sidecar_;
+  std::optional<AtomicFile> sidecar_;  // for a CSV that is a regular file
+  nlohmann::ordered_json params_;  // the sidecar's content, written when the run ends
   std::string line_;  // reused for every row
 };
 

@@ -38,10 +38,10 @@ struct GrowState {
   // Per node, packed so that offering a neighbour touches one cache line besides part_of. The
   // candidate fields are valid while seen == the current part id (no clearing between parts).
   struct Node {
-    int degree;  // constraints to other dynamic bodies (docs/design.md#graph)
-    int seen;    // last part that discovered the node as a candidate
-    int seq;     // discovery order within that part (breadth-first order)
-    int conn;    // constraints from the candidate into that part
+    WeightSum degree;  // constraints to other dynamic bodies (docs/design.md#graph)
+    WeightSum conn;    // constraints from the candidate into that part
+    int seen;          // last part that discovered the node as a candidate
+    int seq;           // discovery order within that part (breadth-first order)
   };
   std::vector<Node> node;
   std::vector<int> candidates;  // discovered by the current part, in discovery order
@@ -64,7 +64,7 @@ struct GrowState {
     part_count = 0;
     const int n = g.node_count();
     node.resize(n);
-    for (int v = 0; v < n; ++v) node[v] = {g.degree(v), -1, 0, 0};
+    for (int v = 0; v < n; ++v) node[v] = {g.degree(v), 0, -1, 0};
     label.resize(n);
   }
   void push(std::int64_t key, int u) {
@@ -97,7 +97,7 @@ void join_part(GrowState& s, Rule& rule, int v) {
     GrowState::Node& c = s.node[u];
     const bool first = c.seen != part;
     if (first) {
-      c = {c.degree, part, static_cast<int>(s.candidates.size()), 0};
+      c = {c.degree, 0, part, static_cast<int>(s.candidates.size())};
       s.candidates.push_back(u);
     }
     c.conn += g.weight[k];

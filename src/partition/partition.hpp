@@ -24,8 +24,8 @@ struct PartitionQuality {
   int parts = 0;
   int min_bodies = 0, max_bodies = 0;  // bodies per part
   double mean_bodies = 0;
-  int edge_cut = 0;          // constraints (edge weights) between different parts
-  int interface_rows = 0;    // rows between different parts (the size of the Schur complement S)
+  WeightSum edge_cut = 0;        // constraints (edge weights) between different parts
+  WeightSum interface_rows = 0;  // rows between different parts (the size of the Schur complement S)
   int interface_bodies = 0;  // nodes with an edge into another part
   double partition_ms = 0, refine_ms = 0;
 };

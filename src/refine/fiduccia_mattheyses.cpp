@@ -90,9 +90,9 @@ class FiducciaMattheyses {
   // grows with n. On piles of 4·10³ and 4·10⁴ nodes this gives the cut of unbounded passes with
   // 6-9 times fewer moves (docs/refinement.md).
   bool pass() {
-    const int start_cut = s_->cut();
+    const WeightSum start_cut = s_->cut();
     const std::size_t patience = std::max<std::size_t>(200, n_ / 20);
-    int best_cut = start_cut;
+    WeightSum best_cut = start_cut;
     std::size_t best_length = 0;
     log_.clear();
     parked_list_.clear();
@@ -131,7 +131,7 @@ class FiducciaMattheyses {
   void apply(int v, int to) {
     const int from = s_->part(v);
     const bool from_was_full = s_->full(from);
-    int external = 0;
+    WeightSum external = 0;
     s_->for_each_neighbour(v, [&](int u, int w) { external += s_->part(u) == to ? w : 0; });
     s_->add_to_cut(s_->internal(v) - external);  // the gain E − I comes off the cut
     s_->move(v, to);
@@ -163,7 +163,7 @@ class FiducciaMattheyses {
       });
     });
     for (int u : swept_list_) {
-      const int gain = swept_[u] - s_->internal(u);
+      const WeightSum gain = swept_[u] - s_->internal(u);
       swept_[u] = 0;
       if (locked_[u] || parked_[u]) continue;
       if (!heap_.contains(u) || gain > heap_.key(u).gain || (gain == heap_.key(u).gain && p < target_[u])) {
@@ -210,7 +210,8 @@ class FiducciaMattheyses {
   std::vector<char> locked_, parked_;  // moved this pass (rollback); may not leave its part
   std::vector<int> parked_list_;       // parked this pass (rollback), to re-key at its end
   std::vector<Step> log_;              // this pass's moves (rollback)
-  std::vector<int> swept_, swept_list_;  // opened(): node -> constraints into the opened part
+  std::vector<WeightSum> swept_;
+  std::vector<int> swept_list_;  // opened(): node -> constraints into the opened part
 };
 
 }  // namespace

@@ -6,11 +6,13 @@
 // item in O(log n): O(m log n) for a pass instead of O(m), with small constants.
 #include <vector>
 
+#include "graph/constraint_graph.hpp"
+
 namespace rbpart {
 
 // Larger gain first; ties go to the smaller `first`, then the smaller `second`.
 struct GainKey {
-  int gain = 0;
+  WeightSum gain = 0;
   int first = 0, second = 0;
 };
 

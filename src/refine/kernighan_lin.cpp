@@ -27,7 +27,9 @@ namespace {
 
 // A node of one part on its interface with `other`: D = (constraints to other) − (to its own part).
 struct Candidate {
-  int other, d, node;
+  int other;
+  WeightSum d;
+  int node;
 };
 
 bool cache_order(const Candidate& x, const Candidate& y) {
@@ -65,7 +67,7 @@ class KernighanLin {
 
     while (!heap_.empty()) {
       const int r = heap_.top();
-      const int gain = heap_.key(r).gain;
+      const WeightSum gain = heap_.key(r).gain;
       const PartPair swap = pairs_[r];
       // Part pairs to search again: every pair of a or b, adjacent before the swap (its best may be
       // gone) or after. No other pair changes: a neighbour u of βi in a third part c sees only its D
@@ -171,7 +173,7 @@ class KernighanLin {
     bool found = false;
     for (const Candidate* x = a_begin; x != a_end && b_begin != b_end; ++x) {
       for (const Candidate* y = b_begin; y != b_end; ++y) {
-        const int bound = x->d + y->d;
+        const WeightSum bound = x->d + y->d;
         // A tie in gain may still win on node indices, so only a strictly lower bound stops.
         if (bound <= 0 || (found && bound < best.gain)) break;
         const GainKey key{bound - 2 * s_->edge_weight(x->node, y->node), std::min(x->node, y->node),

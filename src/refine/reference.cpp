@@ -4,8 +4,8 @@
 
 namespace rbpart::refine_reference {
 
-int connection(const ConstraintGraph& g, const std::vector<int>& part_of, int v, int p) {
-  int sum = 0;
+WeightSum connection(const ConstraintGraph& g, const std::vector<int>& part_of, int v, int p) {
+  WeightSum sum = 0;
   for (int k = g.offset[v]; k < g.offset[v + 1]; ++k)
     if (part_of[g.adjacency[k]] == p) sum += g.weight[k];
   return sum;
@@ -13,8 +13,8 @@ int connection(const ConstraintGraph& g, const std::vector<int>& part_of, int v,
 
 namespace {
 
-int edge_weight(const ConstraintGraph& g, int x, int y) {
-  int sum = 0;
+WeightSum edge_weight(const ConstraintGraph& g, int x, int y) {
+  WeightSum sum = 0;
   for (int k = g.offset[x]; k < g.offset[x + 1]; ++k)
     if (g.adjacency[k] == y) sum += g.weight[k];
   return sum;
@@ -56,8 +56,8 @@ bool connected(const ConstraintGraph& g, const std::vector<int>& part_of, int p,
   return static_cast<int>(queue.size()) == count;
 }
 
-int edge_cut(const ConstraintGraph& graph, const std::vector<int>& part_of) {
-  int twice = 0;
+WeightSum edge_cut(const ConstraintGraph& graph, const std::vector<int>& part_of) {
+  WeightSum twice = 0;
   for (int v = 0; v < graph.node_count(); ++v)
     for (int k = graph.offset[v]; k < graph.offset[v + 1]; ++k)
       if (part_of[graph.adjacency[k]] != part_of[v]) twice += graph.weight[k];
@@ -70,7 +70,7 @@ std::vector<std::optional<GainKey>> best_moves(const ConstraintGraph& graph, con
   for (int p : part_of) ++size[p];
   std::vector<std::optional<GainKey>> best(graph.node_count());
   for (int v = 0; v < graph.node_count(); ++v) {
-    const int own = connection(graph, part_of, v, part_of[v]);
+    const WeightSum own = connection(graph, part_of, v, part_of[v]);
     for (int q : other_parts(graph, part_of, v)) {
       if (size[q] >= nmax) continue;
       const GainKey key{connection(graph, part_of, v, q) - own, v, q};
@@ -94,11 +94,11 @@ std::map<std::pair<int, int>, GainKey> best_swaps(const ConstraintGraph& graph, 
     const int a = part_of[x];
     for (int b : other_parts(graph, part_of, x)) {
       if (b < a) continue;
-      const int dx = connection(graph, part_of, x, b) - connection(graph, part_of, x, a);
+      const WeightSum dx = connection(graph, part_of, x, b) - connection(graph, part_of, x, a);
       for (int y : members[b]) {
-        const int ey = connection(graph, part_of, y, a);
+        const WeightSum ey = connection(graph, part_of, y, a);
         if (ey == 0) continue;
-        const int gain = dx + ey - connection(graph, part_of, y, b) - 2 * edge_weight(graph, x, y);
+        const WeightSum gain = dx + ey - connection(graph, part_of, y, b) - 2 * edge_weight(graph, x, y);
         if (gain <= 0) continue;
         const GainKey key{gain, std::min(x, y), std::max(x, y)};
         const auto found = best.find({a, b});

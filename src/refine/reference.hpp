@@ -15,10 +15,10 @@
 namespace rbpart::refine_reference {
 
 // Constraints from node v to the nodes of part p (v's own part included).
-int connection(const ConstraintGraph& graph, const std::vector<int>& part_of, int v, int p);
+WeightSum connection(const ConstraintGraph& graph, const std::vector<int>& part_of, int v, int p);
 
 // Constraints (edge weights) between different parts.
-int edge_cut(const ConstraintGraph& graph, const std::vector<int>& part_of);
+WeightSum edge_cut(const ConstraintGraph& graph, const std::vector<int>& part_of);
 
 // Per node, its best single move as FM ranks them: {gain E − I, node, target part}, the target a
 // part other than its own that it has an edge to and that holds fewer than nmax nodes, ties to the

@@ -74,7 +74,7 @@ const Connections& RefineState::connections(int node) {
 BestMove RefineState::best_move(int node) {
   const Connections& c = connections(node);
   BestMove best;
-  int best_external = 0;
+  WeightSum best_external = 0;
   for (const auto& [p, w] : c.external) {
     if (full(p)) continue;
     if (best.target < 0 || w > best_external || (w == best_external && p < best.target)) {
@@ -233,13 +233,13 @@ void RefineState::find_articulation_points(int p) {
 
 void RefineState::check(const char* where) const {
   auto fail = [&](const std::string& what) { throw std::logic_error(std::string(where) + ": " + what); };
-  const int cut = refine_reference::edge_cut(*graph_, partition_->part_of);
+  const WeightSum cut = refine_reference::edge_cut(*graph_, partition_->part_of);
   if (cut != cut_) fail("tracked edge cut " + std::to_string(cut_) + ", recomputed " + std::to_string(cut));
   std::vector<int> size(size_.size(), 0);
   for (int p : partition_->part_of) ++size[p];
   if (size != size_) fail("tracked part sizes differ from the recount");
   for (int v = 0; v < graph_->node_count(); ++v) {
-    const int internal = refine_reference::connection(*graph_, partition_->part_of, v, part_of_[v]);
+    const WeightSum internal = refine_reference::connection(*graph_, partition_->part_of, v, part_of_[v]);
     if (internal_[v] != internal)
       fail("node " + std::to_string(v) + ": tracked internal constraints " + std::to_string(internal_[v]) +
            ", recomputed " + std::to_string(internal));

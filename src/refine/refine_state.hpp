@@ -15,14 +15,14 @@ namespace rbpart {
 // A node's constraints to the parts it touches: `internal` to its own part, `external` one
 // (part, constraints) entry per other part, in the order the node's edges first reach them.
 struct Connections {
-  int internal = 0;
-  std::vector<std::pair<int, int>> external;
+  WeightSum internal = 0;
+  std::vector<std::pair<int, WeightSum>> external;
 };
 
 // The best single move of a node (FM's gain α = E − I, docs/design.md#refine): to the part that takes most
 // of its constraints among the other parts it touches that are not full (ties: lowest part id).
 struct BestMove {
-  int gain = 0;
+  WeightSum gain = 0;
   int target = -1;  // -1: no adjacent part can take the node
 };
 
@@ -45,11 +45,11 @@ class RefineState {
   int size(int part) const { return size_[part]; }
   bool full(int part) const { return size_[part] >= nmax_; }
   // Edge cut of the current partition, kept up to date by the refiners through add_to_cut.
-  int cut() const { return cut_; }
-  void add_to_cut(int delta) { cut_ += delta; }
+  WeightSum cut() const { return cut_; }
+  void add_to_cut(WeightSum delta) { cut_ += delta; }
 
   // Constraints from `node` to its own part, kept up to date by move().
-  int internal(int node) const { return internal_[node]; }
+  WeightSum internal(int node) const { return internal_[node]; }
   // Valid until the next call.
   const Connections& connections(int node);
   BestMove best_move(int node);
@@ -88,9 +88,9 @@ class RefineState {
   int nmax_ = 0;
   bool debug_ = false;
   int check_nmax_ = 0;  // nmax for check_partition: parts given larger than nmax may stay so
-  int cut_ = 0;
+  WeightSum cut_ = 0;
   std::vector<int> size_;
-  std::vector<int> internal_;  // node -> constraints to its own part
+  std::vector<WeightSum> internal_;  // node -> constraints to its own part
   // Members of each part as doubly linked lists through the nodes (parts may be larger than nmax
   // when given so, so no fixed-size slots).
   std::vector<int> head_, next_, prev_;

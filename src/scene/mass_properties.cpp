@@ -8,6 +8,7 @@
 
 #include "collision/collide.hpp"
 #include "core/error.hpp"
+#include "scene/limits.hpp"
 
 namespace rbpart {
 
@@ -27,6 +28,9 @@ std::string number(double x) {
 void require_size(double value, const char* what) {
   if (!std::isfinite(value) || value <= 0)
     fail(std::string(what) + " must be finite and positive (got " + number(value) + ")");
+  if (value < limits::kMinLength || value > limits::kMaxLength)
+    fail(std::string(what) + " must lie in [" + number(limits::kMinLength) + ", " + number(limits::kMaxLength) +
+         "] m (got " + number(value) + ")");
 }
 
 // Inertia of a body with principal moments (ixx, iyy, izz) along the shape axes.
@@ -87,7 +91,9 @@ MassProperties convex(const std::vector<Vec3>& vertices) {
   const int n = static_cast<int>(vertices.size());
   if (n < 4) fail("convex shape needs at least 4 vertices (got " + std::to_string(n) + ")");
   for (int i = 0; i < n; ++i)
-    if (!vertices[i].allFinite()) fail("convex vertex " + std::to_string(i) + " is not finite");
+    if (!vertices[i].allFinite() || vertices[i].cwiseAbs().maxCoeff() > limits::kMaxLength)
+      fail("convex vertex " + std::to_string(i) + " must be finite and within " + number(limits::kMaxLength) +
+           " m of the shape frame's origin");
 
   const HullFaces hull = convex_hull_faces(vertices);
   Vec3 lo = vertices[0], hi = vertices[0];
@@ -96,6 +102,8 @@ MassProperties convex(const std::vector<Vec3>& vertices) {
     hi = hi.cwiseMax(v);
   }
   const double extent = (hi - lo).maxCoeff();
+  if (extent < limits::kMinLength)
+    fail("convex shape must be at least " + number(limits::kMinLength) + " m across (got " + number(extent) + ")");
 
   // Reference point inside the hull: a mean of its vertices (each counted once per face).
   Vec3 o = Vec3::Zero();
@@ -167,6 +175,15 @@ MassProperties mass_properties(const BodyDef& body) {
   }
   p.inertia *= mass / p.mass;
   p.mass = mass;
+  if (!body.is_static) {
+    if (!(mass >= limits::kMinMass && mass <= limits::kMaxMass))
+      fail(who + "mass " + number(mass) + " kg" + (body.mass > 0 ? "" : " (from its density)") + " is outside [" +
+           number(limits::kMinMass) + ", " + number(limits::kMaxMass) + "] kg");
+    // The sizes and masses above keep the moments of inertia normal numbers; this is the backstop
+    // for a hull whose points sit closer than its extent suggests.
+    if (!(p.inertia.diagonal().minCoeff() > 0) || !p.inertia.inverse().allFinite())
+      fail(who + "its inertia is not positive and finite (mass " + number(mass) + " kg)");
+  }
   return p;
 }
 

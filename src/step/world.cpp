@@ -288,6 +288,9 @@ struct World::Impl {
     s.max_penetration = 0;
     for (const Contact& c : contacts) s.max_penetration = std::max(s.max_penetration, -c.distance);
     s.kinetic_energy = kinetic_energy();
+    // Nor is a step that ends finite but with a non-finite residual or energy a success to report.
+    if (!std::isfinite(s.residual) || !std::isfinite(s.kinetic_energy))
+      throw std::runtime_error("non-finite BLCP residual or kinetic energy at step " + std::to_string(steps));
     return s;
   }
 };

@@ -3,14 +3,24 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include "support/cli_test.hpp"
 
@@ -85,7 +95,8 @@ TEST_F(Cli, UnknownOptionAndBadValues) {
 TEST_F(Cli, NumericOptionsNameTheirBound) {
   const std::pair<std::string, std::string> cases[] = {
       {"--steps -3", "--steps: must be at least 0 (got -3)"},
-      {"--dt 0", "--dt: must be positive (got 0)"},
+      {"--dt 0", "--dt: must lie in (0, 1] (got 0)"},
+      {"--dt 1e300", "--dt: must lie in (0, 1] (got 1e300)"},
       {"--erp 0", "--erp: must lie in (0, 1] (got 0)"},
       {"--erp 1.5", "--erp: must lie in (0, 1] (got 1.5)"},
       {"--coupled-paths 0", "--coupled-paths: must be positive (got 0)"},
@@ -192,4 +203,133 @@ TEST_F(Cli, SummaryNamesTotalSlowestStepAndUnsettledSteps) {
   EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
 }
 
+// Outputs that are not regular files (issue #26): "-" is standard output, a FIFO is written
+// through and stays a FIFO, a symlink stays a symlink and its target gets the file.
+TEST_F(Cli, OutputsGoThroughStdoutFifosAndSymlinks) {
+  const Result dash = run("simulate --scene box_stack --steps 3 -q --stats -");
+  ASSERT_EQ(dash.status, 0) << dash.err;
+  EXPECT_NE(dash.out.find("step,bodies,"), std::string::npos) << dash.out;
+  EXPECT_FALSE(fs::exists("-"));
+  EXPECT_FALSE(fs::exists("-.json"));
+
+  const std::string fifo = path("state.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directory(path("runs"));
+  fs::create_symlink("runs/s.csv", path("s.csv"));
+  // The read end is held open without blocking, so the writer never waits, and a FIFO that was
+  // replaced by a file cannot hang the test: the text waits in the pipe's buffer.
+  const int in = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(in, 0);
+  const Result r = run("simulate --scene box_stack --steps 3 -q --state " + fifo + " --stats " + path("s.csv"));
+  std::string state;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(in, buffer, sizeof buffer)) > 0;) state.append(buffer, n);
+  ::close(in);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(state.find("\"bodies\""), std::string::npos) << state;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_symlink(path("s.csv")));
+  EXPECT_NE(read(path("runs/s.csv")).find("step,bodies,"), std::string::npos);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("runs")), fs::directory_iterator()), 1);
+}
+
+// A directory given as an output is refused before the run (issue #26): the state file is written
+// last, so a late check would have committed the stats first.
+TEST_F(Cli, DirectoryAsOutputIsRefusedUpFront) {
+  fs::create_directory(path("out"));
+  const Result r = run("simulate --scene box_stack --steps 5 --stats " + path("s.csv") + " --state " + path("out"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err, "rbpart: error: " + path("out") + ": is a directory\n");
+  EXPECT_FALSE(fs::exists(path("s.csv")));
+  EXPECT_TRUE(fs::is_empty(path("out")));
+}
+
+// Values given with --set pass the checks a scene file's values pass, and a bad one gets exit 2
+// naming the parameter (issue #26: these ran to exit 0, truncated or clamped, or ended in an
+// internal error). rocks=20000 is past the cap that keeps a scene within memory.
+TEST_F(Cli, SetValuesAreCheckedNamingTheParameter) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"rock_pile --set dt=0", "scene rock_pile: parameter 'dt' must be in (0, 1] (got 0)"},
+      {"rock_pile --set friction=-0.5", "parameter 'friction' must be in [0, 1000] (got -0.5)"},
+      {"rock_pile --set points=3", "parameter 'points' must be a whole number in [4, 100] (got 3)"},
+      {"rock_pile --set min_size=0.5 --set max_size=0.2", "parameter 'min_size' (0.5) must not exceed 'max_size' (0.2)"},
+      {"box_pile --set boxes=-5", "parameter 'boxes' must be a whole number in [1, 10000] (got -5)"},
+      {"rock_pile --set seed=1.5", "parameter 'seed' must be a whole number"},
+      {"rock_pile --set rocks=20000", "parameter 'rocks' must be a whole number in [1, 10000] (got 20000)"},
+      {"chain_drop --set mass=1e308", "parameter 'mass' must be in [1e-09, 1e+12] (got 1e308)"},
+      {"rock_pile --set density=1e-308", "scene rock_pile: body 'rock0': mass"},
+      {"pendulum --set radius=1e200", "parameter 'radius' must be in (0, 10000] (got 1e200)"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const Result r = run(std::string("simulate --scene ") + args + " --steps 0 --stats " + path("s.csv"));
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(path("s.csv"))) << args;
+  }
+}
+
+// Finite values a scene file may hold but the dynamics cannot carry (issue #26).
+TEST_F(Cli, OutOfRangeSceneFileValues) {
+  const std::string ball = R"("shape": {"type": "sphere", "radius": 0.5})";
+  expect_rejected(scene_with("{" + ball + R"(, "mass": 1e308})"), "bodies[1]: body 'body1': mass 1e+308 kg is outside");
+  expect_rejected(scene_with("{" + ball + R"(, "density": 1e-308})"), "bodies[1]: body 'body1': mass");
+  expect_rejected(scene_with(R"({"shape": {"type": "sphere", "radius": 1e200}, "mass": 1})"),
+                  "bodies[1]: body 'body1': sphere radius must lie in");
+  expect_rejected(R"({"name": "t", "dt": 1e300, "bodies": [)" + std::string(kGround) + "]}",
+                  "bad.json: dt: must be at most 1 s (got 1e+300)");
+  expect_rejected(scene_with("{" + ball + R"(, "mass": 1, "position": [0, 0, 1]})",
+                             R"([{"type": "hinge", "bodies": [1, -1], "anchor": [0, 0, 1], "axis": [1e-200, 0, 0]}])"),
+                  "joints[0].axis: is too short or too long to normalise");
+}
+
+// Ctrl-C during a long run (issue #26: it left hidden .tmp- files and no output): the run stops
+// after the step under way, the statistics of the steps done are kept and marked incomplete, the
+// recording and the state are not written (the sidecar says "incomplete"), no temporary file is left, and the exit status is
+// 128 + SIGINT.
+TEST_F(Cli, InterruptKeepsTheStepsDoneAndLeavesNoTemporaries) {
+  const std::string args[] = {RBPART_CLI, "simulate", "--scene", "rock_pile", "--set", "rocks=30", "--steps", "100000",
+                              "-q", "--stats", path("s.csv"), "--state", path("s.json"), "--record", path("r.rbrec")};
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  // Some steps in: the stats' temporary file holds data once the first stdio buffer is flushed.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  const auto stats_written = [&] {
+    for (const auto& e : fs::directory_iterator(dir_))
+      if (e.path().filename().string().rfind(".s.csv.tmp-", 0) == 0 && fs::file_size(e.path()) > 0) return true;
+    return false;
+  };
+  while (!stats_written() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(child, SIGINT);
+  int status = 0;
+  pid_t waited = 0;
+  while ((waited = ::waitpid(child, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (waited == 0) {
+    ::kill(child, SIGKILL);
+    ::waitpid(child, &status, 0);
+    FAIL() << "simulate did not stop on SIGINT";
+  }
+  ASSERT_TRUE(WIFEXITED(status)) << status;
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"s.csv", "s.csv.json"}));
+  std::ifstream f(path("s.csv"));
+  std::string line;
+  int data = -1;  // the header
+  while (std::getline(f, line)) ++data;
+  EXPECT_GT(data, 0);
+  const nlohmann::json params = nlohmann::json::parse(read(path("s.csv.json")));
+  EXPECT_EQ(params.value("incomplete", ""), "stopped by SIGINT after " + std::to_string(data) + " of 100000 steps");
+}
 }  // namespace

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -170,6 +171,38 @@ TEST_F(PartitionCli, BadFilesExitTwoNamingTheLine) {
   expect_rejected("partition --partitioner mr --graph " + graph_ + " --masses " + masses,
                   masses + ":6: mass 0 is not positive");
   expect_rejected("partition --partitioner bfs --graph " + path("missing.graph"), "missing.graph: cannot open");
+}
+
+// A star whose three edges weigh 2^31 - 1 each: parts {1, 2}, {3}, {4} cut two of them, a sum that
+// 32-bit arithmetic reported as -2 (issue #26); the refiner's tracked cut must agree (debug checks).
+TEST_F(PartitionCli, CutOfMaximalEdgeWeightsIsExact) {
+  const std::string star = write("star.graph", "4 3 1\n2 2147483647 3 2147483647 4 2147483647\n1 2147483647\n"
+                                               "1 2147483647\n1 2147483647\n");
+  ASSERT_EQ(rbpart("partition --graph " + star + " --partitioner bfs --nmax 2 --refine fm --debug-checks --out " +
+                   path("p.part") + " --report " + path("r.json")),
+            0)
+      << err_;
+  const nlohmann::json j = nlohmann::json::parse(read(path("r.json")));
+  EXPECT_EQ(j["parts"], 3);
+  EXPECT_EQ(j["edge_cut"].get<std::int64_t>(), 2 * std::int64_t{2147483647});
+  EXPECT_EQ(j["interface_rows"].get<std::int64_t>(), 2 * std::int64_t{2147483647});
+}
+
+// Outputs that are not regular files are written where they are (issue #26): "-" is standard
+// output, a symlink keeps pointing at its target, which gets the parts; a directory is refused
+// before the work.
+TEST_F(PartitionCli, OutputsThroughDashSymlinksAndNotDirectories) {
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner bfs --nmax 4 --out - --report " + path("r.json")), 0)
+      << err_;
+  EXPECT_EQ(out_, "0\n0\n0\n0\n1\n1\n1\n1\n");
+  EXPECT_FALSE(fs::exists("-"));
+  fs::create_directory(path("kept"));
+  fs::create_symlink("kept/parts.txt", path("link"));
+  ASSERT_EQ(rbpart("partition --graph " + graph_ + " --partitioner bfs --nmax 4 --out " + path("link")), 0) << err_;
+  EXPECT_TRUE(fs::is_symlink(path("link")));
+  EXPECT_EQ(read(path("kept/parts.txt")), "0\n0\n0\n0\n1\n1\n1\n1\n");
+  expect_rejected("partition --graph " + graph_ + " --partitioner bfs --report " + path("kept"),
+                  path("kept") + ": is a directory");
 }
 
 TEST_F(PartitionCli, ReportAndOutNotLeftHalfWrittenOnBadInput) {

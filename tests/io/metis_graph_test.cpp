@@ -2,6 +2,8 @@
 // and the part file writer.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -169,4 +171,18 @@ TEST(MetisGraph, ReadsAFileAndItsMasses) {
 }
 
 }  // namespace
+// Memory follows the file, not its header (issue #26: a 3-line graph claiming 2e9 vertices took
+// 7 GB): a header claiming 5e7 vertices, which 32-bit per-vertex arrays would make 400 MB, fails on
+// its third line with the peak resident size unchanged.
+TEST(MetisGraph, HeaderCountsAllocateNothingBeforeTheLinesExist) {
+  const auto peak_kb = [] {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss;
+  };
+  const long before = peak_kb();
+  EXPECT_EQ(error_of("50000000 1\n2\n1\n"), "g.graph:3: file ends after 2 of 50000000 vertex lines");
+  EXPECT_LT(peak_kb() - before, 64 * 1024);
+}
+
 }  // namespace rbpart

@@ -25,9 +25,10 @@ class TempDir {
   std::string file(const std::string& name) const { return (path_ / name).string(); }
 
   // Names of the entries, sorted: lets a test check that no temporary file is left behind.
-  std::vector<std::string> entries() const {
+  std::vector<std::string> entries() const { return entries_of(path_.string()); }
+  static std::vector<std::string> entries_of(const std::string& dir) {
     std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(path_))
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
       names.push_back(entry.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;

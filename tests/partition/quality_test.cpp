@@ -2,6 +2,7 @@
 // name, and the partitioner and refiner names.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 #include "core/error.hpp"
@@ -42,6 +43,17 @@ TEST(MeasurePartition, SingletonsCutEveryEdgeAndOnePartCutsNone) {
   EXPECT_EQ(empty.parts, 0);
   EXPECT_EQ(empty.max_bodies, 0);
   EXPECT_EQ(empty.mean_bodies, 0);
+}
+
+// A METIS file's edge weights reach 2^31 - 1: two cut edges of that weight read as a cut of -2 in
+// 32-bit sums (issue #26).
+TEST(MeasurePartition, SumsWeightsBeyondTheIntRange) {
+  const int big = std::numeric_limits<int>::max();
+  const ConstraintGraph g = make_graph(3, {{0, 1, big, big}, {1, 2, big, big}});
+  const PartitionQuality q = measure_partition(g, Partition{{0, 1, 2}, 3});
+  EXPECT_EQ(q.edge_cut, 2 * WeightSum{big});
+  EXPECT_EQ(q.interface_rows, 2 * WeightSum{big});
+  EXPECT_EQ(g.degree(1), 2 * WeightSum{big});
 }
 
 void expect_violation(const Partition& p, int nmax, const std::string& words) {

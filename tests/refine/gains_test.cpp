@@ -49,7 +49,7 @@ TEST(RefineGains, FmGainsMatchTheFormulaByHand) {
   const Connections& c = s.connections(2);
   EXPECT_EQ(c.internal, 1);
   ASSERT_EQ(c.external.size(), 1u);
-  EXPECT_EQ(c.external[0], std::make_pair(1, 4));
+  EXPECT_EQ(c.external[0], std::make_pair(1, WeightSum{4}));
 }
 
 TEST(RefineGains, FullPartsAreNoTarget) {

@@ -255,7 +255,7 @@ TEST(MassProperties, DegenerateInputThrowsNamingTheProblem) {
 
   expect_error(body(convex({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}), 1, 0), "at least 4 vertices");
   expect_error(body(convex({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, nan)}), 1, 0),
-               "vertex 3 is not finite");
+               "vertex 3 must be finite");
   // Coplanar (a tilted plane, so not aligned with Bullet's grid), collinear, coincident.
   std::vector<Vec3> plane;
   const Mat3 R = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
@@ -264,13 +264,31 @@ TEST(MassProperties, DegenerateInputThrowsNamingTheProblem) {
   std::vector<Vec3> line;
   for (int i = 0; i < 6; ++i) line.push_back(Vec3(1, 2, 3) * (0.1 * i));
   expect_error(body(convex(line), 1, 0), "coplanar or collinear");
-  expect_error(body(convex(std::vector<Vec3>(5, Vec3(1, 1, 1))), 1, 0), "zero volume");
+  expect_error(body(convex(std::vector<Vec3>(5, Vec3(1, 1, 1))), 1, 0), "at least 1e-06 m across");
 
   expect_error(body(sphere(1), 0, 0), "positive mass or a positive density");
   expect_error(body(sphere(1), -2, 0), "mass");
   expect_error(body(sphere(1), nan, 0), "mass");
   expect_error(body(sphere(1), 0, -5), "density");
   expect_error(body(sphere(1), 0, inf), "density");
+}
+
+// Finite but beyond what double-precision dynamics carries (issue #26: these ended in an internal
+// error or a silently wrong run): sizes, masses, and masses that a density makes.
+TEST(MassProperties, OutOfRangeSizesAndMassesThrowNamingThem) {
+  expect_error(body(sphere(1e200), 1, 0), "sphere radius must lie in [1e-06, 10000] m (got 1e+200)");
+  expect_error(body(sphere(1e-7), 1, 0), "sphere radius must lie in");
+  expect_error(body(box(Vec3(1, 1e5, 1)), 1, 0), "box half_extents must lie in");
+  expect_error(body(convex({Vec3(0, 0, 0), Vec3(1e5, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}), 1, 0),
+               "convex vertex 1 must be finite and within 10000 m");
+  expect_error(body(sphere(1), 1e308, 0), "mass 1e+308 kg is outside [1e-09, 1e+12] kg");
+  expect_error(body(sphere(1), 1e-308, 0), "mass 1e-308 kg is outside");
+  expect_error(body(sphere(1), 0, 1e308), "(from its density) is outside");
+  expect_error(body(sphere(1), 0, 1e-308), "(from its density) is outside");
+  // A static body has no mass in the dynamics: only its shape is checked.
+  BodyDef floor = body(box(Vec3(5e3, 5e3, 1)), 0, 1e-308);
+  floor.is_static = true;
+  EXPECT_EQ(error_of(floor), "");
 }
 
 }  // namespace

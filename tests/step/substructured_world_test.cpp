@@ -1,9 +1,14 @@
-// The substructured solver inside the time step (`simulate --solver substructured`): from the same state it
-// gives the monolithic direct solver's impulses up to round-off (docs/design.md#substructured), so steps of a
-// scene leave both worlds in the same state up to round-off, and the step's stats report the partition and
-// the loop it ran. The comparison runs while the direct solver's friction loop converges (residual <= 1e-9):
-// a step that ends at the pass cap is an approximate answer whose digits depend on the path taken, so the two
-// runs part there by more than round-off.
+// The substructured solver inside the time step (`simulate --solver substructured`): from the same
+// state it gives the monolithic direct solver's impulses up to round-off (docs/design.md#substructured), so a step
+// from the same state leaves both worlds in the same state up to round-off, and the step's stats
+// report the partition and the loop it ran.
+//
+// Only steps from one shared state are compared. A trajectory is chaotic once bodies pile up: two
+// runs that differ in the last bit at one step part by about tenfold every five steps, so a
+// tolerance on a whole trajectory holds only on the machine (vector width, FMA) it was set on
+// (issue #26). The states are taken along the direct solver's trajectory, wherever it leads; from
+// each, fresh worlds with either solver take two steps (the second warm-started by the first),
+// which amplify round-off at most a step's worth.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 
@@ -20,21 +25,40 @@ namespace {
 struct Case {
   const char* scene;
   std::vector<std::pair<std::string, std::string>> overrides;
-  int steps;  // compared steps, at most
+  int steps;  // steps of the direct trajectory that provide start states, at most
   PartitionerKind partitioner;
   RefinerKind refiner;
   int nmax;
 };
 
+// `scene` restarted from the state `now` of its bodies: poses and velocities replaced, and joint
+// anchors and hinge axes carried along with their first body from the scene's start.
+SceneDef restarted(const SceneDef& scene, const Bodies& now) {
+  SceneDef out = scene;
+  for (int i = 0; i < now.size(); ++i) {
+    BodyDef& b = out.bodies[i];
+    b.position = now.frame_position(i);
+    b.orientation = now.q[i];
+    b.velocity = now.v[i];
+    b.angular_velocity = now.w[i];
+  }
+  for (JointDef& j : out.joints) {
+    const BodyDef& start = scene.bodies[j.body_a];
+    const Quat turn = now.q[j.body_a] * start.orientation.normalized().conjugate();
+    j.anchor = now.frame_position(j.body_a) + turn * (j.anchor - start.position);
+    j.axis = turn * j.axis;
+  }
+  return out;
+}
+
 TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
   const Case cases[] = {
       {"box_stack", {}, 60, PartitionerKind::MinDp, RefinerKind::None, 3},
-      // A forming pile amplifies round-off about tenfold every five steps once rocks land (both
-      // solvers exact, residuals ~1e-15): compared while that growth is still far below 1e-7.
-      {"rock_pile", {{"rocks", "20"}}, 40, PartitionerKind::Mix, RefinerKind::Fm, 6},
-      {"log_tower", {{"layers", "5"}, {"drop_height", "0.02"}}, 12, PartitionerKind::Bfs, RefinerKind::Kl, 3},
-      {"chain_drop", {{"links", "30"}}, 20, PartitionerKind::Mr, RefinerKind::None, 5},
+      {"rock_pile", {{"rocks", "20"}}, 120, PartitionerKind::Mix, RefinerKind::Fm, 6},
+      {"log_tower", {{"layers", "5"}, {"drop_height", "0.02"}}, 60, PartitionerKind::Bfs, RefinerKind::Kl, 3},
+      {"chain_drop", {{"links", "30"}}, 120, PartitionerKind::Mr, RefinerKind::None, 5},
   };
+  constexpr int kEvery = 4;  // start states: every kEvery-th step of the trajectory
   // Cap 100 (and 1000 halved steps) is far above what these steps need: the iteration itself, not
   // its fallback, must follow. Cap 1 makes split islands fall back, in whichever friction pass the
   // iteration first fails to settle at once: the fallback must follow just as closely.
@@ -54,40 +78,55 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
       partition.partitioner = c.partitioner;
       partition.refiner = c.refiner;
       partition.nmax = c.nmax;
-      World direct(scene, StepParams{}, exact, PartitionParams{}), split(scene, StepParams{}, sub, partition);
+      World trajectory(scene, StepParams{}, exact, PartitionParams{});
       int interface_rows = 0, loop_iterations = 0, fallbacks = 0, compared = 0;
-      for (; compared < c.steps; ++compared) {
-        const StepStats& d = direct.step();
-        const StepStats& s = split.step();
-        ASSERT_EQ(s.rows, d.rows) << "step " << compared + 1;
-        EXPECT_LE(s.residual, d.residual + 1e-9) << "step " << compared + 1;
-        if (cap == 100) EXPECT_EQ(s.fallbacks, 0) << "step " << compared + 1;
-        fallbacks += s.fallbacks;
-        EXPECT_GE(s.parts, s.islands);
-        interface_rows += s.interface_rows;
-        loop_iterations += s.loop_iterations;
-        if (d.residual > 1e-9) break;
+      for (int step = 0; step < c.steps; ++step) {
+        if (step % kEvery == 0) {
+          const SceneDef start = restarted(scene, trajectory.bodies());
+          World direct(start, StepParams{}, exact, PartitionParams{}), split(start, StepParams{}, sub, partition);
+          bool settled = true;
+          for (int k = 1; k <= 2; ++k) {
+            SCOPED_TRACE("from step " + std::to_string(step) + ", step " + std::to_string(k));
+            const StepStats& d = direct.step();
+            const StepStats& s = split.step();
+            ASSERT_EQ(s.rows, d.rows);
+            EXPECT_LE(s.residual, d.residual + 1e-9);
+            if (cap == 100) EXPECT_EQ(s.fallbacks, 0);
+            fallbacks += s.fallbacks;
+            EXPECT_GE(s.parts, s.islands);
+            interface_rows += s.interface_rows;
+            loop_iterations += s.loop_iterations;
+            // A step that ends at the pass cap is an approximate answer whose digits depend on the
+            // path taken, so the two solvers part there by more than round-off.
+            settled = settled && d.residual <= 1e-9;
+          }
+          if (settled) {
+            ++compared;
+            // Round-off of two steps: 1e-9 of the speeds, and at least 1e-6 of one step of gravity
+            // (g h) - a box face resting on four corners has a null wrench that only the sigma
+            // floor tells apart, so normal impulses, and the friction boxes they set, agree to ~1e-6
+            // relative (as in substructured_test.cpp), and a friction row on its box carries that
+            // into the velocities. A solver error shows at the scale of g h itself.
+            const Bodies& a = direct.bodies();
+            const Bodies& b = split.bodies();
+            double v_scale = 0, dv = 0, dx = 0;
+            for (int i = 0; i < a.size(); ++i) {
+              v_scale = std::max(v_scale, a.v[i].norm());
+              dv = std::max({dv, (a.v[i] - b.v[i]).norm(), (a.w[i] - b.w[i]).norm()});
+              dx = std::max(dx, (a.x[i] - b.x[i]).norm());
+            }
+            const double dv_bound = std::max(1e-9 * v_scale, 1e-6 * 9.81 * scene.dt);
+            EXPECT_LE(dv, dv_bound) << "from step " << step;
+            EXPECT_LE(dx, 2 * scene.dt * dv_bound) << "from step " << step;  // two steps of dv
+          }
+        }
+        trajectory.step();
       }
-      // The run had interfaces to solve, and each needed at least one pass of the loop.
-      EXPECT_GE(compared, 10);
+      // The states had interfaces to solve, and each needed at least one pass of the loop.
+      EXPECT_GE(compared, 3);
       EXPECT_GT(interface_rows, 0);
       EXPECT_GT(loop_iterations, 0);
       if (cap == 1) EXPECT_GT(fallbacks, 0);
-      // Same state up to the round-off that the steps amplify: 1e-7 of the speeds, and at least 1e-6
-      // of one step of gravity (g h) - a box face resting on four corners has a null wrench that only
-      // the sigma floor tells apart, so normal impulses, and the friction boxes they set, agree to
-      // ~1e-6 relative (as in substructured_test.cpp); a friction row on its box carries that into
-      // the velocities (seen: 1.3e-7 m/s on box_stack at step 60, -march=native with AVX-512).
-      const Bodies& a = direct.bodies();
-      const Bodies& b = split.bodies();
-      double v_scale = 0, dv = 0, dx = 0;
-      for (int i = 0; i < a.size(); ++i) {
-        v_scale = std::max(v_scale, a.v[i].norm());
-        dv = std::max({dv, (a.v[i] - b.v[i]).norm(), (a.w[i] - b.w[i]).norm()});
-        dx = std::max(dx, (a.x[i] - b.x[i]).norm());
-      }
-      EXPECT_LE(dv, std::max(1e-7 * v_scale, 1e-6 * 9.81 * scene.dt));
-      EXPECT_LE(dx, 1e-7);
     }
   }
 }

@@ -42,9 +42,10 @@ class CliTest : public ::testing::Test {
     return s.str();
   }
 
-  Result run(const std::string& args) const {
+  // `prefix` goes before the binary, e.g. "timeout 20 " for a run that must not hang the suite.
+  Result run(const std::string& args, const std::string& prefix = "") const {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const int raw = std::system((std::string(RBPART_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+    const int raw = std::system((prefix + RBPART_CLI + " " + args + " >" + out + " 2>" + err).c_str());
     return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read(out), read(err)};
   }
 
