@@ -20,6 +20,7 @@
 #include "graph/generate.hpp"
 #include "partition/partition.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 namespace {
@@ -37,7 +38,7 @@ ConstraintGraph settled_scene_graph(const std::string& scene) {
   pgs.kind = SolverKind::Pgs;
   World world(make_builtin_scene(scene), {}, pgs);
   for (int i = 0; i < 300; ++i) world.step();
-  return world.graph();
+  return world_graph(world);
 }
 
 int metis_cut(const std::string& name, const ConstraintGraph& g, int nmax) {

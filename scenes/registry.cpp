@@ -1,11 +1,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <string>
 
 #include "core/error.hpp"
+#include "io/scene_json.hpp"
 #include "io/text_format.hpp"
 #include "scene/limits.hpp"
 #include "scene/mass_properties.hpp"
@@ -102,6 +104,22 @@ SceneDef make_builtin_scene(const std::string& name,
     return scene;
   }
   throw InputError("unknown scene '" + name + "' (rbpart scenes lists the built-ins)");
+}
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> names;
+  for (const SceneInfo& info : builtin_scenes()) names.push_back(info.name);
+  return names;
+}
+
+SceneDef load_scene(const std::string& scene, const std::vector<std::pair<std::string, std::string>>& parameters) {
+  for (const SceneInfo& info : builtin_scenes())
+    if (info.name == scene) return make_builtin_scene(scene, parameters);
+  if (!parameters.empty())
+    throw InputError("scene parameters apply to built-in scenes only, not to the file '" + scene + "'");
+  if (!std::ifstream(scene))
+    throw InputError("scene '" + scene + "': neither a built-in scene (rbpart scenes) nor a readable file");
+  return load_scene_file(scene);
 }
 
 std::uint64_t SceneRandom::next() {

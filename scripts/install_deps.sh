@@ -8,6 +8,8 @@ packages=(
   zlib1g-dev libcpp-httplib-dev  # recordings (gzip), `rbpart view`'s server
   chromium                       # `rbpart snapshot` and the viewer's end-to-end test
   python3-matplotlib             # `rbpart bench`'s figures (scripts/plot_study.py, system Python)
+  pybind11-dev python3-numpy     # the Python module (python/), for the system Python
+  python3-pytest                 # its tests (python/tests)
 )
 # The viewer's build (scripts/build_viewer.sh) needs node and npm; Debian's own (node 18, npm 9) do,
 # and a node that is already there (with its bundled npm) is kept.

@@ -7,12 +7,10 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
-#include "core/timer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/metis_graph.hpp"
 #include "io/text_format.hpp"
@@ -56,10 +54,6 @@ struct Options {
   PartitionOptions partition;
 };
 
-// --parts K as METIS users mean it: K balanced parts of a graph of n nodes need parts of at most
-// ceil(n / K) nodes, which is the cap rbpart's partitioners take (docs/formats.md#partition-report).
-int nmax_for_parts(int nodes, int parts) { return (nodes + parts - 1) / parts; }
-
 int run_partition(const Options& o) {
   PartitionParams params = partition_params(o.partition);
   if (params.partitioner == PartitionerKind::None)
@@ -74,18 +68,7 @@ int run_partition(const Options& o) {
   if (!o.report.empty()) report.emplace(o.report);
 
   Partition partition;
-  const Timer partition_timer;
-  partition_graph(graph, params, partition);
-  const double partition_ms = partition_timer.ms();
-  const Timer refine_timer;
-  refine_partition(graph, params, partition);
-  const double refine_ms = refine_timer.ms();
-  if (params.debug_checks) {
-    const std::string violation = check_partition(graph, partition, params.nmax);
-    if (!violation.empty()) throw std::logic_error("partition breaks its properties: " + violation);
-  }
-
-  const PartitionQuality q = measure_partition(graph, partition);
+  const PartitionQuality q = partition_and_refine(graph, params, partition);
   nlohmann::ordered_json json = {
       {"partitioner", partitioner_name(params.partitioner)},
       {"refiner", refiner_name(params.refiner)},
@@ -101,8 +84,8 @@ int run_partition(const Options& o) {
       {"edge_cut", q.edge_cut},
       {"interface_rows", q.interface_rows},
       {"interface_bodies", q.interface_bodies},
-      {"partition_ms", partition_ms},
-      {"refine_ms", refine_ms}};
+      {"partition_ms", q.partition_ms},
+      {"refine_ms", q.refine_ms}};
   if (o.parts > 0) json["requested_parts"] = o.parts;
   const std::string parts = part_file_text(partition), line = json.dump() + "\n";
   if (out) {

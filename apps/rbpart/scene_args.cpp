@@ -1,9 +1,5 @@
-#include <fstream>
-
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
-#include "io/scene_json.hpp"
-#include "scenes/scenes.hpp"
 
 namespace rbpart::cli {
 
@@ -18,12 +14,7 @@ std::vector<std::pair<std::string, std::string>> split_assignments(const std::ve
 }
 
 SceneDef resolve_scene(const std::string& scene, const std::vector<std::string>& sets) {
-  for (const SceneInfo& info : builtin_scenes())
-    if (info.name == scene) return make_builtin_scene(scene, split_assignments(sets));
-  if (!sets.empty()) throw InputError("--set applies to built-in scenes only, not to the file '" + scene + "'");
-  if (!std::ifstream(scene))
-    throw InputError("--scene '" + scene + "': neither a built-in scene (rbpart scenes) nor a readable file");
-  return load_scene_file(scene);
+  return load_scene(scene, split_assignments(sets));
 }
 
 }  // namespace rbpart::cli

@@ -19,6 +19,7 @@
 #include "io/stats_csv.hpp"
 #include "io/text_format.hpp"
 #include "graph/constraint_graph.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart::cli {
 
@@ -114,7 +115,7 @@ int run_simulate(const Options& o) {
   if (stats) stats->finish();
   if (recording) recording->finish();
   if (state) {
-    state->write(state_to_json(world.scene(), world.bodies(), world.time(), params));
+    state->write(state_to_json(world.scene(), world_bodies(world), world.time(), params));
     state->commit();
   }
 
@@ -138,7 +139,7 @@ int run_simulate(const Options& o) {
                 fallbacks);
     if (solver_params.kind == SolverKind::Substructured)
       std::printf("substructured loop: %.2f iterations per step\n", steps ? double(loop_iterations) / steps : 0.0);
-    const ConstraintGraph& g = world.graph();
+    const ConstraintGraph& g = world_graph(world);
     WeightSum max_degree = 0, total_degree = 0;
     for (int i = 0; i < g.node_count(); ++i) {
       max_degree = std::max(max_degree, g.degree(i));

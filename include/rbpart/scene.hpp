@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rbpart {
@@ -57,5 +58,14 @@ struct SceneDef {
   std::vector<BodyDef> bodies;
   std::vector<JointDef> joints;
 };
+
+// The built-in scenes (README, "Built-in scenes"; `rbpart scenes -v` lists their parameters).
+std::vector<std::string> builtin_scene_names();
+
+// What the CLI's --scene takes: a built-in scene by name, with `parameters` (name, value as text,
+// e.g. {"boxes", "3"}) over its defaults; or else the scene file at that path (docs/formats.md#scene-file).
+// Throws std::runtime_error naming the problem (an unknown scene or parameter, a value outside its
+// domain, a malformed file).
+SceneDef load_scene(const std::string& scene, const std::vector<std::pair<std::string, std::string>>& parameters = {});
 
 }  // namespace rbpart

@@ -5,16 +5,10 @@
 #include <rbpart/scene.hpp>
 
 #include <cstdint>
-#include <functional>
 #include <memory>
+#include <vector>
 
 namespace rbpart {
-
-struct Bodies;
-struct Rows;
-struct Islands;
-struct ConstraintGraph;
-struct Partition;
 
 // Wall time of each stage of one step, named after the stage (ms).
 struct StepProfile {
@@ -55,6 +49,28 @@ struct StepStats {
   double factor_ms = 0, schur_ms = 0, interface_ms = 0, subsystem_ms = 0, work_ms = 0, critical_path_ms = 0;
 };
 
+// One body's state (docs/formats.md#state-file): the pose of its shape frame, as a BodyDef gives it,
+// and the velocities of its centre of mass, all in world coordinates.
+struct BodyState {
+  Vec3 position = Vec3::Zero();            // of the shape frame (m)
+  Quat orientation = Quat::Identity();     // unit; Eigen stores (x, y, z, w), w() is the scalar part
+  Vec3 velocity = Vec3::Zero();            // of the centre of mass (m/s)
+  Vec3 angular_velocity = Vec3::Zero();    // rad/s
+};
+
+// A contact point of the last step and the impulse its rows (one normal, two friction) applied
+// over the step (docs/design.md#dynamics). Body b receives the opposite impulse.
+struct ContactImpulse {
+  int body_a = -1;             // scene body index, always dynamic
+  int body_b = -1;             // scene body index, may be static
+  Vec3 point = Vec3::Zero();   // world, midway between the surfaces, at the start of the step
+  Vec3 normal = Vec3::UnitZ(); // world, unit, from body b into body a
+  double distance = 0;         // signed separation at the start of the step (< 0: penetration, m)
+  double normal_impulse = 0;   // N s along `normal` on body a, >= 0
+  Vec3 friction_impulse = Vec3::Zero();  // N s on body a, tangent to the contact
+  Vec3 impulse() const { return normal_impulse * normal + friction_impulse; }
+};
+
 class World {
  public:
   // With a partitioner in `partition_params` every step partitions and refines the constraint graph
@@ -74,27 +90,35 @@ class World {
   const StepParams& step_params() const;
   const SolverParams& solver_params() const;
   const PartitionParams& partition_params() const;
-  const Bodies& bodies() const;
-  // The last step's constraint rows (with their impulses), islands and constraint graph: what the
-  // partitioners and the viewer are built from.
-  const Rows& rows() const;
-  const Islands& islands() const;
-  const ConstraintGraph& graph() const;
-  // The last step's sub-systems: part id per graph node. The islands for the monolithic solvers
-  // without a partitioner; the partitioned and refined parts otherwise.
-  const Partition& partition() const;
+
+  // Bodies in scene order (static ones included); `body` below is a scene index, and an index
+  // outside [0, body_count()) throws std::out_of_range.
+  int body_count() const;
+  BodyState body_state(int body) const;
+  // kg: the BodyDef's mass, or density times volume; 0 for a static body.
+  double body_mass(int body) const;
+  // The contacts the last step solved, sorted by (body_a, body_b, persistent id), with their
+  // impulses; `out` is cleared first (reuse it to read every step without allocating).
+  void contacts(std::vector<ContactImpulse>& out) const;
+  std::vector<ContactImpulse> contacts() const;
+
+  // External force (N) and torque (N m) for the next step only, added to gravity as
+  // u* = u + h M^-1 (f_gravity + f) (docs/design.md#dynamics); calls add up until that step, which
+  // clears them. A force at a world point also gives the torque (point - centre of mass) x force.
+  // A static body takes none: std::invalid_argument.
+  void apply_force(int body, const Vec3& force);
+  void apply_force(int body, const Vec3& force, const Vec3& point);
+  void apply_torque(int body, const Vec3& torque);
+
   // FNV-1a over the bit patterns of every body's state: equal hashes = identical runs.
   std::uint64_t state_hash() const;
-
-  // Called every step just before the solve stage with the step's problem: the rows carrying their
-  // warm starts, the bodies (world inertia of this step), the islands and the constraint graph.
-  // `rbpart bench` records problems with it and replays them with every partitioner (src/study/).
-  using ProblemObserver = std::function<void(const Rows&, const Bodies&, const Islands&, const ConstraintGraph&)>;
-  void set_problem_observer(ProblemObserver observer);
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  // The stages' data (bodies, rows, islands, constraint graph, partition) for the CLI, the study and
+  // the tests: src/step/world_internals.hpp, not public since their types are internal.
+  friend struct WorldAccess;
 };
 
 }  // namespace rbpart

@@ -50,6 +50,13 @@ void apply_external_forces(Bodies& bodies, const Vec3& gravity, double h) {
   }
 }
 
+void apply_body_forces(Bodies& bodies, const std::vector<Vec3>& force, const std::vector<Vec3>& torque, double h) {
+  for (int i = 0; i < bodies.size(); ++i) {
+    bodies.v[i] += h * bodies.inv_mass[i] * force[i];
+    bodies.w[i] += h * (bodies.inv_inertia[i] * torque[i]);
+  }
+}
+
 void apply_impulses(const Rows& rows, Bodies& bodies) {
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const double l = rows.lambda[r];

@@ -3,6 +3,8 @@
 // positions after it (semi-implicit Euler, unit quaternions).
 #include <rbpart/scene.hpp>
 
+#include <vector>
+
 #include "assembly/rows.hpp"
 #include "scene/bodies.hpp"
 
@@ -22,6 +24,9 @@ void update_geometric_stiffness(const Rows& rows, Bodies& bodies, double h);
 // u* = u + h M^-1 f_ext: gravity, and the gyroscopic term taken implicitly (one Newton step in the
 // body frame, as explicit gyroscopic torque is unstable for long bodies such as logs).
 void apply_external_forces(Bodies& bodies, const Vec3& gravity, double h);
+
+// u* += h M^-1 (f, tau): forces and torques applied to the bodies for this step (World::apply_force).
+void apply_body_forces(Bodies& bodies, const std::vector<Vec3>& force, const std::vector<Vec3>& torque, double h);
 
 // u+ = u* + M^-1 J^T lambda.
 void apply_impulses(const Rows& rows, Bodies& bodies);

@@ -77,6 +77,49 @@ std::ifstream open_input(const std::string& path) {
   return in;
 }
 
+// Sorts every node's neighbours, with their weights, into increasing order (the graph's CSR
+// convention).
+void sort_neighbours(ConstraintGraph& g) {
+  std::vector<std::pair<int, int>> entries;
+  for (int v = 0; v + 1 < static_cast<int>(g.offset.size()); ++v) {
+    entries.clear();
+    for (int k = g.offset[v]; k < g.offset[v + 1]; ++k) entries.emplace_back(g.adjacency[k], g.weight[k]);
+    std::sort(entries.begin(), entries.end());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      g.adjacency[g.offset[v] + i] = entries[i].first;
+      g.weight[g.offset[v] + i] = entries[i].second;
+    }
+  }
+}
+
+// The first edge, in node then neighbour order, that its other end does not list (reverse = -1) or
+// lists with another weight (reverse = that entry); k = -1 when every edge is paired. Neighbours
+// sorted, so each reverse is found by binary search.
+struct UnpairedEdge {
+  int v = -1, k = -1, reverse = -1;
+};
+UnpairedEdge find_unpaired_edge(const ConstraintGraph& g) {
+  for (int v = 0; v + 1 < static_cast<int>(g.offset.size()); ++v)
+    for (int k = g.offset[v]; k < g.offset[v + 1]; ++k) {
+      const int u = g.adjacency[k];
+      const auto first = g.adjacency.begin() + g.offset[u], last = g.adjacency.begin() + g.offset[u + 1];
+      const auto it = std::lower_bound(first, last, v);
+      if (it == last || *it != v) return {v, k, -1};
+      const int reverse = static_cast<int>(it - g.adjacency.begin());
+      if (g.weight[reverse] != g.weight[k]) return {v, k, reverse};
+    }
+  return {};
+}
+
+// Node i is body i, of mass 1 unless `masses` says otherwise; an edge's row count is its weight.
+void finish_graph(ConstraintGraph& g, int n) {
+  g.body_of.resize(n);
+  std::iota(g.body_of.begin(), g.body_of.end(), 0);
+  g.node_of = g.body_of;
+  g.mass.assign(n, 1.0);
+  g.rows = g.weight;
+}
+
 }  // namespace
 
 MetisGraph parse_metis_graph(std::istream& in, const std::string& name) {
@@ -143,44 +186,69 @@ MetisGraph parse_metis_graph(std::istream& in, const std::string& name) {
   while (r.next())
     if (!r.tokens().empty()) r.fail("more than " + std::to_string(n) + " vertex lines");
 
-  // Neighbours in increasing order (the graph's CSR convention), then every edge checked against its
-  // reverse by binary search.
-  std::vector<std::pair<int, int>> entries;
-  for (int v = 0; v < n; ++v) {
-    entries.clear();
-    for (int k = g.offset[v]; k < g.offset[v + 1]; ++k) entries.emplace_back(g.adjacency[k], g.weight[k]);
-    std::sort(entries.begin(), entries.end());
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      g.adjacency[g.offset[v] + i] = entries[i].first;
-      g.weight[g.offset[v] + i] = entries[i].second;
-    }
+  sort_neighbours(g);
+  if (const UnpairedEdge e = find_unpaired_edge(g); e.k >= 0) {
+    const int v = e.v, u = g.adjacency[e.k];
+    const std::string edge = "edge " + std::to_string(v + 1) + "-" + std::to_string(u + 1);
+    if (e.reverse < 0)
+      r.fail(edge + " has no reverse: vertex " + std::to_string(u + 1) + " (line " + std::to_string(line_of[u]) +
+                 ") does not list " + std::to_string(v + 1),
+             line_of[v]);
+    r.fail(edge + " has weight " + std::to_string(g.weight[e.k]) + " here but " + std::to_string(g.weight[e.reverse]) +
+               " on vertex " + std::to_string(u + 1) + "'s line (line " + std::to_string(line_of[u]) + ")",
+           line_of[v]);
   }
-  for (int v = 0; v < n; ++v)
-    for (int k = g.offset[v]; k < g.offset[v + 1]; ++k) {
-      const int u = g.adjacency[k];
-      const auto first = g.adjacency.begin() + g.offset[u], last = g.adjacency.begin() + g.offset[u + 1];
-      const auto it = std::lower_bound(first, last, v);
-      const std::string edge = "edge " + std::to_string(v + 1) + "-" + std::to_string(u + 1);
-      if (it == last || *it != v)
-        r.fail(edge + " has no reverse: vertex " + std::to_string(u + 1) + " (line " + std::to_string(line_of[u]) +
-                   ") does not list " + std::to_string(v + 1),
-               line_of[v]);
-      const int reverse_weight = g.weight[it - g.adjacency.begin()];
-      if (reverse_weight != g.weight[k])
-        r.fail(edge + " has weight " + std::to_string(g.weight[k]) + " here but " + std::to_string(reverse_weight) +
-                   " on vertex " + std::to_string(u + 1) + "'s line (line " + std::to_string(line_of[u]) + ")",
-               line_of[v]);
-    }
   if (g.edge_count() != m)
     r.fail("header says " + std::to_string(m) + " edges but the vertex lines list " + std::to_string(g.edge_count()),
            header_line);
 
-  g.body_of.resize(n);
-  std::iota(g.body_of.begin(), g.body_of.end(), 0);
-  g.node_of = g.body_of;
-  g.mass.assign(n, 1.0);
-  g.rows = g.weight;
+  finish_graph(g, n);
   return out;
+}
+
+ConstraintGraph graph_from_arrays(const std::vector<int>& xadj, const std::vector<int>& adjncy,
+                                  const std::vector<int>& adjwgt, const std::vector<double>& masses) {
+  const auto fail = [](const std::string& what) { throw InputError(what); };
+  const auto str = [](auto x) { return std::to_string(x); };
+  if (xadj.size() < 2) fail("xadj needs n + 1 entries for n >= 1 nodes (got " + str(xadj.size()) + ")");
+  const int n = static_cast<int>(xadj.size()) - 1;
+  if (xadj[0] != 0) fail("xadj[0] must be 0 (got " + str(xadj[0]) + ")");
+  for (int v = 0; v < n; ++v)
+    if (xadj[v + 1] < xadj[v]) fail("xadj decreases at xadj[" + str(v + 1) + "] = " + str(xadj[v + 1]));
+  if (static_cast<std::size_t>(xadj[n]) != adjncy.size())
+    fail("xadj[n] = " + str(xadj[n]) + " but adjncy has " + str(adjncy.size()) + " entries");
+  if (!adjwgt.empty() && adjwgt.size() != adjncy.size())
+    fail(str(adjwgt.size()) + " edge weights for " + str(adjncy.size()) + " adjncy entries");
+  if (!masses.empty() && masses.size() != static_cast<std::size_t>(n))
+    fail(str(masses.size()) + " masses for " + str(n) + " nodes");
+  for (std::size_t i = 0; i < masses.size(); ++i)
+    if (!std::isfinite(masses[i]) || masses[i] <= 0) fail("masses[" + str(i) + "] is not positive and finite");
+
+  ConstraintGraph g;
+  g.offset = xadj;
+  g.adjacency = adjncy;
+  g.weight = adjwgt.empty() ? std::vector<int>(adjncy.size(), 1) : adjwgt;
+  for (int v = 0; v < n; ++v)
+    for (int k = xadj[v]; k < xadj[v + 1]; ++k) {
+      const std::string entry = "adjncy[" + str(k) + "] = " + str(adjncy[k]);
+      if (adjncy[k] < 0 || adjncy[k] >= n) fail(entry + " is outside 0.." + str(n - 1));
+      if (adjncy[k] == v) fail(entry + " is a self loop on node " + str(v));
+      if (g.weight[k] < 1) fail("edge weight " + str(g.weight[k]) + " of " + entry + " is not positive");
+    }
+  sort_neighbours(g);
+  for (int v = 0; v < n; ++v) {
+    const auto first = g.adjacency.begin() + g.offset[v], last = g.adjacency.begin() + g.offset[v + 1];
+    const auto twice = std::adjacent_find(first, last);
+    if (twice != last) fail("node " + str(v) + " lists node " + str(*twice) + " twice");
+  }
+  if (const UnpairedEdge e = find_unpaired_edge(g); e.k >= 0) {
+    const std::string edge = "edge " + str(e.v) + "-" + str(g.adjacency[e.k]);
+    if (e.reverse < 0) fail(edge + " has no reverse: node " + str(g.adjacency[e.k]) + " does not list " + str(e.v));
+    fail(edge + " has weight " + str(g.weight[e.k]) + " but its reverse " + str(g.weight[e.reverse]));
+  }
+  finish_graph(g, n);
+  if (!masses.empty()) g.mass = masses;
+  return g;
 }
 
 MetisGraph read_metis_graph(const std::string& path) {

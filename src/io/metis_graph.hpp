@@ -34,6 +34,15 @@ struct MetisGraph {
 MetisGraph read_metis_graph(const std::string& path);
 MetisGraph parse_metis_graph(std::istream& in, const std::string& name);
 
+// The same graph from METIS's arrays (its C API, 0-based): node v's neighbours are
+// adjncy[xadj[v] .. xadj[v+1]), in any order, with edge weights adjwgt (empty: 1) and node masses
+// (empty: 1). Throws InputError naming the first problem: xadj not starting at 0, decreasing or not
+// ending at adjncy's size; a neighbour outside 0..n-1, a self loop, a neighbour listed twice; a
+// weight below 1; an edge whose reverse is missing or weighted differently; a mass not positive and
+// finite; arrays of the wrong size.
+ConstraintGraph graph_from_arrays(const std::vector<int>& xadj, const std::vector<int>& adjncy,
+                                  const std::vector<int>& adjwgt = {}, const std::vector<double>& masses = {});
+
 // One mass per line for `count` nodes (blank lines and '%' comment lines skipped); throws
 // InputError "<name>:<line>: ..." on a token that is not a number, a non-positive or non-finite
 // mass, more than one number on a line, or a count other than `count`.

@@ -7,6 +7,7 @@
 #include "graph/constraint_graph.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
+#include "step/world_internals.hpp"
 
 #include <zlib.h>
 
@@ -295,7 +296,7 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, co
   w.u32(count32(meta_text.size(), "header bytes"));
   header += meta_text;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i)
-    write_body(w, scene.bodies[i], world.bodies(), static_cast<int>(i));
+    write_body(w, scene.bodies[i], world_bodies(world), static_cast<int>(i));
   impl_->sink.write(header);
 }
 
@@ -303,8 +304,8 @@ RecordingWriter::~RecordingWriter() = default;
 
 void RecordingWriter::write_step(const World& world, const StepStats& stats) {
   Impl& m = *impl_;
-  const Bodies& bodies = world.bodies();
-  const ConstraintGraph& g = world.graph();
+  const Bodies& bodies = world_bodies(world);
+  const ConstraintGraph& g = world_graph(world);
   if (g.node_count() != m.nodes) throw std::logic_error("recording: node count changed");
 
   // Edges once per pair (u < v); CSR neighbours are sorted, so the list is sorted by (u, v).
@@ -338,7 +339,7 @@ void RecordingWriter::write_step(const World& world, const StepStats& stats) {
   for (std::uint16_t x : m.ew) w.u16(x);
   for (std::uint16_t x : m.er) w.u16(x);
   w.pad4();
-  m.write_channel(w, g, world.partition(), stats.profile.partition_ms, stats.profile.refine_ms);
+  m.write_channel(w, g, world_partition(world), stats.profile.partition_ms, stats.profile.refine_ms);
   for (const PartitionParams& c : m.extra) {
     const Timer tp;
     partition_graph(g, c, m.scratch);

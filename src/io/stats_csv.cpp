@@ -3,6 +3,7 @@
 #include "io/text_format.hpp"
 
 #include <charconv>
+#include <string_view>
 
 namespace rbpart {
 
@@ -41,36 +42,33 @@ StatsCsvWriter::StatsCsvWriter(const std::string& path, const ParamList& params)
   file_.write(header);
 }
 
+std::array<double, StatsCsvWriter::kColumns.size()> StatsCsvWriter::values(const StepStats& s) {
+  const StepProfile& p = s.profile;
+  return {double(s.step), double(s.bodies), double(s.contacts), double(s.rows), double(s.islands), double(s.parts),
+          double(s.interface_rows), double(s.interface_bodies), double(s.edge_cut), p.collide_ms, p.assemble_ms,
+          p.graph_ms, p.partition_ms, p.refine_ms, p.solve_ms, p.integrate_ms, p.total_ms, double(s.solver_iterations),
+          double(s.friction_passes), double(s.factorizations), double(s.fallbacks), s.residual, s.max_penetration,
+          s.kinetic_energy, double(s.loop_iterations), s.factor_ms, s.schur_ms, s.interface_ms, s.subsystem_ms,
+          s.work_ms, s.critical_path_ms, double(s.unsettled)};
+}
+
+StatsCsvWriter::ColumnKind StatsCsvWriter::column_kind(std::size_t column) {
+  const std::string_view name = kColumns[column];
+  if (name.size() > 3 && name.substr(name.size() - 3) == "_ms") return ColumnKind::Ms;
+  if (name == "blcp_residual" || name == "max_penetration" || name == "kinetic_energy") return ColumnKind::Exact;
+  return ColumnKind::Count;
+}
+
 void StatsCsvWriter::write(const StepStats& s) {
   line_.clear();
-  append_int(line_, s.step);
-  append_int(line_, s.bodies);
-  append_int(line_, s.contacts);
-  append_int(line_, s.rows);
-  append_int(line_, s.islands);
-  append_int(line_, s.parts);
-  append_int(line_, s.interface_rows);
-  append_int(line_, s.interface_bodies);
-  append_int(line_, s.edge_cut);
-  append_ms(line_, s.profile.collide_ms);
-  append_ms(line_, s.profile.assemble_ms);
-  append_ms(line_, s.profile.graph_ms);
-  append_ms(line_, s.profile.partition_ms);
-  append_ms(line_, s.profile.refine_ms);
-  append_ms(line_, s.profile.solve_ms);
-  append_ms(line_, s.profile.integrate_ms);
-  append_ms(line_, s.profile.total_ms);
-  append_int(line_, s.solver_iterations);
-  append_int(line_, s.friction_passes);
-  append_int(line_, s.factorizations);
-  append_int(line_, s.fallbacks);
-  append_exact(line_, s.residual);
-  append_exact(line_, s.max_penetration);
-  append_exact(line_, s.kinetic_energy);
-  append_int(line_, s.loop_iterations);
-  for (double ms : {s.factor_ms, s.schur_ms, s.interface_ms, s.subsystem_ms, s.work_ms, s.critical_path_ms})
-    append_ms(line_, ms);
-  append_int(line_, s.unsettled);
+  const auto v = values(s);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    switch (column_kind(i)) {
+      case ColumnKind::Count: append_int(line_, static_cast<int>(v[i])); break;
+      case ColumnKind::Ms: append_ms(line_, v[i]); break;
+      case ColumnKind::Exact: append_exact(line_, v[i]); break;
+    }
+  }
   line_.back() = '\n';
   file_.write(line_);
 }

@@ -25,6 +25,12 @@ class StatsCsvWriter {
       "blcp_residual", "max_penetration", "kinetic_energy", "loop_iterations", "factor_ms", "schur_ms",
       "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms", "unsettled"};
 
+  // A step's value of every column, in kColumns order (as numbers, before the file's formatting),
+  // and what each column holds: counts, wall times (the "_ms" columns) or physical quantities.
+  static std::array<double, kColumns.size()> values(const StepStats& stats);
+  enum class ColumnKind { Count, Ms, Exact };
+  static ColumnKind column_kind(std::size_t column);
+
   // The parameters' file beside a stats CSV: "run.csv" -> "run.csv.json".
   static std::string sidecar_path(const std::string& csv_path) { return csv_path + ".json"; }
 

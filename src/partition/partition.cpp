@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/timer.hpp"
 #include "partition/grow.hpp"
 
 namespace rbpart {
@@ -100,6 +101,24 @@ void partition_graph(const ConstraintGraph& graph, const PartitionParams& params
     }
   }
   partition.part_count = s.part_count;
+}
+
+PartitionQuality partition_and_refine(const ConstraintGraph& graph, const PartitionParams& params,
+                                      Partition& partition) {
+  const Timer partition_timer;
+  partition_graph(graph, params, partition);
+  const double partition_ms = partition_timer.ms();
+  const Timer refine_timer;
+  refine_partition(graph, params, partition);
+  const double refine_ms = refine_timer.ms();
+  if (params.debug_checks) {
+    const std::string violation = check_partition(graph, partition, params.nmax);
+    if (!violation.empty()) throw std::logic_error("partition breaks its properties: " + violation);
+  }
+  PartitionQuality q = measure_partition(graph, partition);
+  q.partition_ms = partition_ms;
+  q.refine_ms = refine_ms;
+  return q;
 }
 
 const char* partitioner_name(PartitionerKind kind) { return entry_of(kPartitioners, kind).name; }

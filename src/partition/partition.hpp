@@ -45,6 +45,16 @@ void refine_partition(const ConstraintGraph& graph, const PartitionParams& param
 // Parts, sizes, cut, interface rows and bodies (times left 0: the caller measures them).
 PartitionQuality measure_partition(const ConstraintGraph& graph, const Partition& partition);
 
+// A whole graph's partition, as `rbpart partition` and the Python module make it: partition_graph,
+// refine_partition, each timed into the quality returned; with params.debug_checks a partition
+// breaking the properties above throws std::logic_error.
+PartitionQuality partition_and_refine(const ConstraintGraph& graph, const PartitionParams& params,
+                                      Partition& partition);
+
+// The cap of `parts` balanced parts of `nodes` nodes, ceil(nodes / parts): `--parts K` as METIS users
+// mean it (docs/formats.md#partition-report).
+inline int nmax_for_parts(int nodes, int parts) { return (nodes + parts - 1) / parts; }
+
 // Checks the properties above (cover, disjoint ids in range, connected parts, at most nmax nodes,
 // no empty part); returns "" or the first violation, in words.
 std::string check_partition(const ConstraintGraph& graph, const Partition& partition, int nmax);

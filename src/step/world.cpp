@@ -23,6 +23,7 @@
 #include "scene/mass_properties.hpp"
 #include "solve/solve.hpp"
 #include "solve/substructured.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 
@@ -58,6 +59,9 @@ struct World::Impl {
   StepStats stats;
   int steps = 0;
   ProblemObserver observer;  // sees each step's problem before the solve (set_problem_observer)
+  // Forces and torques for the next step (World::apply_force), per body; `forced` while any is set.
+  std::vector<Vec3> force, torque;
+  bool forced = false;
 
   Impl(SceneDef s, StepParams sp, SolverParams so, PartitionParams pp)
       : scene(std::move(s)), step_params(sp), solver_params(so), partition_params(pp),
@@ -72,6 +76,8 @@ struct World::Impl {
                                                            static_cast<std::size_t>(solver_params.threads));
     init_bodies();
     joints = make_joint_frames(scene, bodies);
+    force.assign(bodies.size(), Vec3::Zero());
+    torque.assign(bodies.size(), Vec3::Zero());
   }
 
   void init_bodies() {
@@ -125,7 +131,32 @@ struct World::Impl {
     sliding_v = bodies.v;
     sliding_w = bodies.w;
     apply_external_forces(bodies, scene.gravity, scene.dt);
+    if (forced) apply_applied_forces();
     assemble_rows(contacts, joints, bodies, sliding_v, sliding_w, step_params, scene.dt, warm, rows);
+  }
+
+  // The forces of World::apply_force join gravity in u*, once; then they are cleared.
+  void apply_applied_forces() {
+    apply_body_forces(bodies, force, torque, scene.dt);
+    std::fill(force.begin(), force.end(), Vec3::Zero());
+    std::fill(torque.begin(), torque.end(), Vec3::Zero());
+    forced = false;
+  }
+
+  // Index `body` checked for the public accessors.
+  int checked(int body) const {
+    if (body < 0 || body >= bodies.size())
+      throw std::out_of_range("body " + std::to_string(body) + " is not in 0.." + std::to_string(bodies.size() - 1));
+    return body;
+  }
+
+  // The index of a dynamic body for apply_force and apply_torque.
+  int forceable(int body) {
+    if (bodies.is_static[checked(body)])
+      throw std::invalid_argument("body " + std::to_string(body) + " (" + scene.bodies[body].name +
+                                  ") is static and takes no force");
+    forced = true;
+    return body;
   }
 
   void graph() {
@@ -306,12 +337,67 @@ const SceneDef& World::scene() const { return impl_->scene; }
 const StepParams& World::step_params() const { return impl_->step_params; }
 const SolverParams& World::solver_params() const { return impl_->solver_params; }
 const PartitionParams& World::partition_params() const { return impl_->partition_params; }
-const Bodies& World::bodies() const { return impl_->bodies; }
-const Rows& World::rows() const { return impl_->rows; }
-const Islands& World::islands() const { return impl_->islands; }
-const ConstraintGraph& World::graph() const { return impl_->graph_; }
-const Partition& World::partition() const { return impl_->partition_; }
-void World::set_problem_observer(ProblemObserver observer) { impl_->observer = std::move(observer); }
+
+int World::body_count() const { return impl_->bodies.size(); }
+double World::body_mass(int body) const { return impl_->bodies.mass[impl_->checked(body)]; }
+
+BodyState World::body_state(int body) const {
+  const Bodies& b = impl_->bodies;
+  const int i = impl_->checked(body);
+  return {b.frame_position(i), b.q[i], b.v[i], b.w[i]};
+}
+
+// A contact's rows are three consecutive rows from 3k (assemble_rows: normal, then two friction); the
+// impulse each row puts on body a is lambda times its Jacobian's linear block for a (slot 0).
+void World::contacts(std::vector<ContactImpulse>& out) const {
+  const Rows& rows = impl_->rows;
+  out.clear();
+  for (std::size_t k = 0; k < impl_->contacts.size(); ++k) {
+    const Contact& c = impl_->contacts[k];
+    const std::size_t r = 3 * k;
+    if (r + 2 >= rows.size() || rows.key[r] != contact_row_key(c.id, 0))
+      throw std::logic_error("contact " + std::to_string(k) + " has no rows of its own");
+    ContactImpulse& ci = out.emplace_back();
+    ci.body_a = c.body_a;
+    ci.body_b = c.body_b;
+    ci.point = c.point;
+    ci.normal = c.normal;
+    ci.distance = c.distance;
+    ci.normal_impulse = rows.lambda[r];
+    ci.friction_impulse =
+        rows.lambda[r + 1] * rows.jac[r + 1][0].head<3>() + rows.lambda[r + 2] * rows.jac[r + 2][0].head<3>();
+  }
+}
+
+std::vector<ContactImpulse> World::contacts() const {
+  std::vector<ContactImpulse> out;
+  contacts(out);
+  return out;
+}
+
+void World::apply_force(int body, const Vec3& force) { impl_->force[impl_->forceable(body)] += force; }
+
+void World::apply_force(int body, const Vec3& force, const Vec3& point) {
+  const int i = impl_->forceable(body);
+  impl_->force[i] += force;
+  impl_->torque[i] += (point - impl_->bodies.x[i]).cross(force);
+}
+
+void World::apply_torque(int body, const Vec3& torque) { impl_->torque[impl_->forceable(body)] += torque; }
+
+// The internal accessors (world_internals.hpp) reach the Impl through this friend of World.
+struct WorldAccess {
+  static World::Impl& impl(const World& world) { return *world.impl_; }
+};
+
+const Bodies& world_bodies(const World& world) { return WorldAccess::impl(world).bodies; }
+const Rows& world_rows(const World& world) { return WorldAccess::impl(world).rows; }
+const Islands& world_islands(const World& world) { return WorldAccess::impl(world).islands; }
+const ConstraintGraph& world_graph(const World& world) { return WorldAccess::impl(world).graph_; }
+const Partition& world_partition(const World& world) { return WorldAccess::impl(world).partition_; }
+void set_problem_observer(World& world, ProblemObserver observer) {
+  WorldAccess::impl(world).observer = std::move(observer);
+}
 
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;

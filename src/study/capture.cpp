@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/timer.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 
@@ -56,8 +57,8 @@ Trajectory capture_trajectory(const SceneDef& scene, int steps, int every, const
     // thread limits are not capped by it (tbb::global_control takes the smallest active limit).
     World world(scene, step_params, direct, PartitionParams{});
     bool record = false;
-    world.set_problem_observer([&](const Rows& rows, const Bodies& bodies, const Islands& islands,
-                                   const ConstraintGraph& graph) {
+    set_problem_observer(world, [&](const Rows& rows, const Bodies& bodies, const Islands& islands,
+                                    const ConstraintGraph& graph) {
       if (!record) return;
       StepProblem& p = trajectory.steps.emplace_back();
       p.rows = rows;
@@ -70,13 +71,13 @@ Trajectory capture_trajectory(const SceneDef& scene, int steps, int every, const
       world.step();
       if (record) {
         trajectory.steps.back().step = s;
-        trajectory.steps.back().live_lambda = world.rows().lambda;
+        trajectory.steps.back().live_lambda = world_rows(world).lambda;
       }
       if (on_step) on_step(s);
     }
     trajectory.simulated_steps = steps;
     trajectory.dynamic_bodies =
-        static_cast<int>(std::count(world.bodies().is_static.begin(), world.bodies().is_static.end(), 0));
+        static_cast<int>(std::count(world_bodies(world).is_static.begin(), world_bodies(world).is_static.end(), 0));
   }
   trajectory.capture_ms = timer.ms();
   return trajectory;

@@ -16,7 +16,7 @@
 
 namespace rbpart {
 
-// One step's BLCP as the live World handed it to its solve stage (World::set_problem_observer).
+// One step's BLCP as the live World handed it to its solve stage (set_problem_observer, step/world_internals.hpp).
 struct StepProblem {
   int step = 0;    // 1-based step number in the trajectory
   Rows rows;       // with the warm start (lambda, state) the live solve started from

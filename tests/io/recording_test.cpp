@@ -9,6 +9,7 @@
 #include "io/temp_dir.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
+#include "step/world_internals.hpp"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -75,13 +76,13 @@ struct Expected {
 };
 
 Expected expect(const World& world) {
-  Expected e{world.step_count(), world.time(), {}, {}, {}, {}, {}, world.partition().part_of,
-             world.partition().part_count};
-  const ConstraintGraph& g = world.graph();
+  Expected e{world.step_count(), world.time(), {}, {}, {}, {}, {}, world_partition(world).part_of,
+             world_partition(world).part_count};
+  const ConstraintGraph& g = world_graph(world);
   for (int node = 0; node < g.node_count(); ++node) {
     const int i = g.body_of[node];
-    const Vec3 p = world.bodies().frame_position(i);
-    const Quat& q = world.bodies().q[i];
+    const Vec3 p = world_bodies(world).frame_position(i);
+    const Quat& q = world_bodies(world).q[i];
     for (double x : {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()}) e.poses.push_back(static_cast<float>(x));
     for (int k = g.offset[node]; k < g.offset[node + 1]; ++k)
       if (g.adjacency[k] > node) {

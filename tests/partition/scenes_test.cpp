@@ -13,6 +13,7 @@
 #include "partition/partition.hpp"
 #include "reference.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 namespace {
@@ -42,7 +43,7 @@ TEST(SceneGraphs, EveryPartitionerKeepsItsPropertiesOnTheScenes) {
   for (const SceneCase& c : kScenes) {
     World world(make_builtin_scene(c.name, c.sets), {}, pgs());
     for (int i = 0; i < c.steps; ++i) world.step();
-    const ConstraintGraph& g = world.graph();
+    const ConstraintGraph& g = world_graph(world);
     ASSERT_GE(g.edge_count(), c.min_edges) << c.name;
     const std::vector<int> comp = test::components(g);
     for (PartitionerKind kind : {PartitionerKind::Bfs, PartitionerKind::MinDp, PartitionerKind::MaxDp,
@@ -81,12 +82,12 @@ TEST(SceneGraphs, WorldPartitionsEveryStepAndReportsTheQuality) {
   int steps_with_cut = 0;
   for (int i = 0; i < 100; ++i) {
     const StepStats& s = world.step();
-    const ConstraintGraph& g = world.graph();
+    const ConstraintGraph& g = world_graph(world);
     // The World's parts: MIX then FM, deterministic, so recomputing them gives the same ids.
     Partition expect;
     partition_graph(g, params, expect);
     refine_partition(g, params, expect);
-    ASSERT_EQ(world.partition().part_of, expect.part_of) << "step " << s.step;
+    ASSERT_EQ(world_partition(world).part_of, expect.part_of) << "step " << s.step;
     const PartitionQuality q = measure_partition(g, expect);
     EXPECT_EQ(s.parts, q.parts);
     EXPECT_EQ(s.edge_cut, q.edge_cut);

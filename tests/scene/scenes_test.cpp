@@ -17,6 +17,7 @@
 #include "graph/constraint_graph.hpp"
 #include "scene/bodies.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 #include "support/joint_gap.hpp"
 
 namespace rbpart {
@@ -24,7 +25,7 @@ namespace {
 
 // Kinetic plus potential energy of the dynamic bodies (J); the potential is measured from z = 0.
 double mechanical_energy(const World& w, double kinetic) {
-  const Bodies& B = w.bodies();
+  const Bodies& B = world_bodies(w);
   double potential = 0;
   for (int i = 0; i < B.size(); ++i)
     if (!B.is_static[i]) potential -= B.mass[i] * w.scene().gravity.dot(B.x[i]);
@@ -44,7 +45,7 @@ struct RunSummary {
 RunSummary run(World& w, int steps, int late = 0) {
   RunSummary r;
   const test::JointGapMeter gaps(w);
-  const Bodies& B = w.bodies();
+  const Bodies& B = world_bodies(w);
   double weight = 0, z_lo = 0, z_hi = 0;
   for (int i = 0; i < B.size(); ++i)
     if (!B.is_static[i]) {
@@ -86,12 +87,12 @@ TEST(ChainDrop, FallsOverTheBarFoldsAndKeepsItsJoints) {
   expect_sound(r, 20.0);
   // Every link is a node; the joints alone make the graph a path of links - 1 edges, and a chain
   // folded onto the ground adds an edge for every pair of links lying on each other.
-  const ConstraintGraph& g = w.graph();
+  const ConstraintGraph& g = world_graph(w);
   EXPECT_EQ(g.node_count(), 40);
   EXPECT_GE(g.edge_count(), 39 + 10);
   // The heavy end has pulled the chain over the bar: its first link, released 3.9 m from the bar,
   // lies within a metre of it.
-  const Bodies& B = w.bodies();
+  const Bodies& B = world_bodies(w);
   EXPECT_LT(std::abs(B.x[2].x() - B.x[1].x()), 1.0);
 }
 
@@ -99,17 +100,17 @@ TEST(LogTower, StandsUnderTheBlockAsALayeredLattice) {
   const int layers = 6;
   World w(make_builtin_scene("log_tower", {{"layers", std::to_string(layers)}, {"drop_height", "0.3"}}));
   std::vector<double> z0;
-  for (int i = 0; i < w.bodies().size(); ++i) z0.push_back(w.bodies().x[i].z());
+  for (int i = 0; i < world_bodies(w).size(); ++i) z0.push_back(world_bodies(w).x[i].z());
   const RunSummary r = run(w, 120, 20);
   expect_sound(r, 10.0);
   // The block has landed and everything is at rest again.
   EXPECT_LT(r.late_kinetic, 1e-3 * r.peak_kinetic);
   // Every log is still in its layer (bodies: ground, then 3 logs per layer, then the block).
-  const Bodies& B = w.bodies();
+  const Bodies& B = world_bodies(w);
   for (int i = 1; i <= 3 * layers; ++i) EXPECT_NEAR(B.x[i].z(), z0[i], 0.01) << "log " << i;
   // Layered lattice: edges join only logs of adjacent layers (or the block and the top layer),
   // and every layer touches the next.
-  const ConstraintGraph& g = w.graph();
+  const ConstraintGraph& g = world_graph(w);
   auto layer = [&](int node) { return (g.body_of[node] - 1) / 3; };  // the block is layer `layers`
   std::set<int> joined;
   for (int a = 0; a < g.node_count(); ++a)
@@ -134,7 +135,7 @@ TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
   expect_sound(r, 10.0);
   EXPECT_LT(r.late_kinetic, 0.01 * r.peak_kinetic);
   // A pile: rocks rest on rocks, so the graph has many edges and bodies of degree >= 3.
-  const ConstraintGraph& g = w.graph();
+  const ConstraintGraph& g = world_graph(w);
   int high_degree = 0;
   for (int v = 0; v < g.node_count(); ++v) high_degree += g.degree(v) >= 3;
   EXPECT_GE(g.edge_count(), g.node_count());
@@ -143,7 +144,7 @@ TEST(RockPile, FormsAPileInTheBinAndComesToRest) {
 
 TEST(LargeRockPile, MassesComeFromTheSetAndThePileIsSound) {
   World w(make_builtin_scene("large_rock_pile", {{"rocks", "30"}, {"layers", "2"}}));
-  const Bodies& B = w.bodies();
+  const Bodies& B = world_bodies(w);
   std::set<double> masses;
   for (int i = 0; i < B.size(); ++i)
     if (!B.is_static[i]) masses.insert(B.mass[i]);

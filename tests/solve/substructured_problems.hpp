@@ -11,6 +11,7 @@
 #include "integrate/integrate.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
+#include "step/world_internals.hpp"
 
 #include <queue>
 #include <unordered_map>
@@ -54,14 +55,14 @@ inline void warm_start_from(const Rows& previous, Rows& rows) {
 
 // Advances `world` one step and returns that step's BLCP with the warm start it was solved from.
 inline StepProblem capture_step(World& world) {
-  const Rows previous = world.rows();
+  const Rows previous = world_rows(world);
   StepProblem p;
-  p.bodies = world.bodies();
+  p.bodies = world_bodies(world);
   update_world_inertia(p.bodies);  // as assembly does before it builds the rows
   world.step();
-  p.rows = world.rows();
-  p.islands = world.islands();
-  p.graph = world.graph();
+  p.rows = world_rows(world);
+  p.islands = world_islands(world);
+  p.graph = world_graph(world);
   warm_start_from(previous, p.rows);
   return p;
 }

@@ -7,6 +7,7 @@
 
 #include "scene/bodies.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 #include "support/joint_gap.hpp"
 
 namespace rbpart {
@@ -21,15 +22,15 @@ SceneDef scene(const std::string& name, std::vector<std::pair<std::string, std::
 // Position of the block along the downhill direction of the slope scene.
 double downhill(const World& w, double theta) {
   const Vec3 d(std::cos(theta), 0, -std::sin(theta));
-  return w.bodies().x[1].dot(d);
+  return world_bodies(w).x[1].dot(d);
 }
 
 TEST(Slope, BlockBelowFrictionAngleStaysPut) {
   // tan(20 deg) = 0.36 < mu = 0.5.
   World w(scene("slope", {{"angle", "20"}, {"friction", "0.5"}}));
-  const Vec3 start = w.bodies().x[1];
+  const Vec3 start = world_bodies(w).x[1];
   for (int i = 0; i < 120; ++i) w.step();  // 2 s
-  EXPECT_LT((w.bodies().x[1] - start).norm(), 1e-3);
+  EXPECT_LT((world_bodies(w).x[1] - start).norm(), 1e-3);
 }
 
 TEST(Slope, BlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
@@ -58,10 +59,10 @@ TEST(Pendulum, SmallAnglePeriod) {
   const double expected = 2 * M_PI * std::sqrt(I_pivot / (kG * L)) * (1 + theta0 * theta0 / 16);
   // Upward zero crossings of x (linearly interpolated) over several periods.
   std::vector<double> crossings;
-  double prev = w.bodies().x[0].x(), prev_t = 0;
+  double prev = world_bodies(w).x[0].x(), prev_t = 0;
   while (w.time() < 10) {
     w.step();
-    const double x = w.bodies().x[0].x();
+    const double x = world_bodies(w).x[0].x();
     if (prev < 0 && x >= 0) crossings.push_back(prev_t + (w.time() - prev_t) * (-prev) / (x - prev));
     prev = x;
     prev_t = w.time();
@@ -75,11 +76,11 @@ TEST(Pendulum, SmallAnglePeriod) {
 // sink deeper than the slop plus 1 mm.
 void expect_stack_rests(const SceneDef& def) {
   World w(def);
-  const std::vector<Vec3> start = w.bodies().x;
+  const std::vector<Vec3> start = world_bodies(w).x;
   double deepest = 0;
   while (w.time() < 10 - 1e-9) deepest = std::max(deepest, w.step().max_penetration);
-  for (int i = 0; i < w.bodies().size(); ++i)
-    EXPECT_LT((w.bodies().x[i] - start[i]).norm(), 2e-3) << "box " << i;
+  for (int i = 0; i < world_bodies(w).size(); ++i)
+    EXPECT_LT((world_bodies(w).x[i] - start[i]).norm(), 2e-3) << "box " << i;
   EXPECT_LE(deepest, w.step_params().slop + 1e-3);
 }
 

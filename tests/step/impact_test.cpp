@@ -10,6 +10,7 @@
 
 #include "scene/bodies.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 namespace {
@@ -52,12 +53,12 @@ TEST(Impact, FastSphereStopsOnTheGround) {
     double lowest = INFINITY, deepest = 0;
     for (int i = 0; i < 60; ++i) {
       deepest = std::max(deepest, w.step().max_penetration);
-      lowest = std::min(lowest, w.bodies().x[1].z());
+      lowest = std::min(lowest, world_bodies(w).x[1].z());
     }
     EXPECT_LE(deepest, kPenetration);
     EXPECT_GE(lowest, r - kPenetration);  // never further into the ground than 1 cm
-    EXPECT_NEAR(w.bodies().x[1].z(), r, 1e-3);
-    EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+    EXPECT_NEAR(world_bodies(w).x[1].z(), r, 1e-3);
+    EXPECT_LT(world_bodies(w).v[1].norm(), 1e-3);
   }
 }
 
@@ -80,8 +81,8 @@ TEST(Impact, FastBoxDoesNotTunnelThroughAThinPlate) {
     World w(scene);
     SCOPED_TRACE(type == ShapeType::Box ? "box" : "sphere");
     EXPECT_LE(run(w, 90), kPenetration);
-    EXPECT_NEAR(w.bodies().x[1].z(), plate_top + half, kPenetration);
-    EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+    EXPECT_NEAR(world_bodies(w).x[1].z(), plate_top + half, kPenetration);
+    EXPECT_LT(world_bodies(w).v[1].norm(), 1e-3);
   }
 }
 
@@ -112,15 +113,15 @@ TEST(Impact, CapsulesThrownAtEachOtherCollideInelastically) {
     double deepest = 0;
     for (int i = 0; i < 30; ++i) {
       deepest = std::max(deepest, w.step().max_penetration);
-      ASSERT_LT(w.bodies().x[0].x(), w.bodies().x[1].x()) << "passed through at step " << i + 1;
+      ASSERT_LT(world_bodies(w).x[0].x(), world_bodies(w).x[1].x()) << "passed through at step " << i + 1;
     }
     EXPECT_LE(deepest, kPenetration);
     const double common = (ma * va + mb * vb) / (ma + mb);
     for (int k = 0; k < 2; ++k) {
-      EXPECT_NEAR(w.bodies().v[k].x(), common, 1e-6);
-      EXPECT_LT(w.bodies().w[k].norm(), 1e-6);
+      EXPECT_NEAR(world_bodies(w).v[k].x(), common, 1e-6);
+      EXPECT_LT(world_bodies(w).w[k].norm(), 1e-6);
     }
-    EXPECT_NEAR(w.bodies().x[1].x() - w.bodies().x[0].x(), 2 * r, kPenetration);
+    EXPECT_NEAR(world_bodies(w).x[1].x() - world_bodies(w).x[0].x(), 2 * r, kPenetration);
   }
 }
 
@@ -153,7 +154,7 @@ TEST(Impact, TumblingRocksLandWithoutSinking) {
     const double trial_deepest = run(w, 300);
     deepest = std::max(deepest, trial_deepest);
     EXPECT_LE(trial_deepest, 0.005);  // before vertex-face contacts: up to 38 mm
-    const Bodies& b = w.bodies();
+    const Bodies& b = world_bodies(w);
     double lowest = INFINITY;
     for (const Vec3& v : w.scene().bodies[1].shape.vertices) lowest = std::min(lowest, Vec3(b.frame_position(1) + b.q[1] * v).z());
     EXPECT_NEAR(lowest, 0, w.step_params().slop + 1e-4);
@@ -184,12 +185,12 @@ TEST(Impact, CapsuleDroppedCrosswiseOnACapsuleRestsOnIt) {
   double deepest = 0, lowest = INFINITY;
   for (int i = 0; i < 90; ++i) {
     deepest = std::max(deepest, w.step().max_penetration);
-    lowest = std::min(lowest, w.bodies().x[1].z());
+    lowest = std::min(lowest, world_bodies(w).x[1].z());
   }
   EXPECT_LE(deepest, kPenetration);
   EXPECT_GE(lowest, 1.0 + 2 * r - kPenetration);
-  EXPECT_NEAR(w.bodies().x[1].z(), 1.0 + 2 * r, w.step_params().slop + 1e-4);
-  EXPECT_LT(w.bodies().v[1].norm(), 1e-3);
+  EXPECT_NEAR(world_bodies(w).x[1].z(), 1.0 + 2 * r, w.step_params().slop + 1e-4);
+  EXPECT_LT(world_bodies(w).v[1].norm(), 1e-3);
 }
 
 TEST(Impact, RestingStackKeepsItsContacts) {

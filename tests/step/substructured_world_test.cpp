@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "scene/bodies.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 namespace {
@@ -82,7 +83,7 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
       int interface_rows = 0, loop_iterations = 0, fallbacks = 0, compared = 0;
       for (int step = 0; step < c.steps; ++step) {
         if (step % kEvery == 0) {
-          const SceneDef start = restarted(scene, trajectory.bodies());
+          const SceneDef start = restarted(scene, world_bodies(trajectory));
           World direct(start, StepParams{}, exact, PartitionParams{}), split(start, StepParams{}, sub, partition);
           bool settled = true;
           for (int k = 1; k <= 2; ++k) {
@@ -107,8 +108,8 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
             // floor tells apart, so normal impulses, and the friction boxes they set, agree to ~1e-6
             // relative (as in substructured_test.cpp), and a friction row on its box carries that
             // into the velocities. A solver error shows at the scale of g h itself.
-            const Bodies& a = direct.bodies();
-            const Bodies& b = split.bodies();
+            const Bodies& a = world_bodies(direct);
+            const Bodies& b = world_bodies(split);
             double v_scale = 0, dv = 0, dx = 0;
             for (int i = 0; i < a.size(); ++i) {
               v_scale = std::max(v_scale, a.v[i].norm());

@@ -20,6 +20,7 @@
 #include "core/error.hpp"
 #include "partition/partition.hpp"
 #include "solve/solve.hpp"
+#include "step/world_internals.hpp"
 #include "study/capture.hpp"
 #include "study/figures.hpp"
 #include "study/study.hpp"
@@ -53,11 +54,11 @@ TEST(Capture, DirectSolveOfARecordedProblemReproducesTheLiveImpulsesBitForBit) {
       if (s % kEvery) continue;
       const StepProblem& p = trajectory.steps[k++];
       ASSERT_EQ(p.step, s);
-      EXPECT_TRUE(same_bits(p.live_lambda, live.rows().lambda)) << "step " << s;
+      EXPECT_TRUE(same_bits(p.live_lambda, world_rows(live).lambda)) << "step " << s;
       Rows rows = p.rows;
       solve_direct(rows, p.bodies, p.islands, SolverParams{});
-      EXPECT_TRUE(same_bits(rows.lambda, live.rows().lambda)) << "step " << s;
-      EXPECT_TRUE(rows.state == live.rows().state) << "step " << s;
+      EXPECT_TRUE(same_bits(rows.lambda, world_rows(live).lambda)) << "step " << s;
+      EXPECT_TRUE(rows.state == world_rows(live).state) << "step " << s;
       rows_checked += rows.size();
       // The recorded rows carry the warm start, not the answer: replays start where the live run did.
       for (std::size_t j = 0; j < rows.size(); ++j) {

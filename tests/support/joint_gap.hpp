@@ -8,13 +8,14 @@
 #include <vector>
 
 #include "scene/bodies.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart::test {
 
 class JointGapMeter {
  public:
   explicit JointGapMeter(const World& world) {
-    const Bodies& B = world.bodies();
+    const Bodies& B = world_bodies(world);
     for (const JointDef& j : world.scene().joints) {
       Anchor an{j.body_a, j.body_b, B.q[j.body_a].conjugate() * (j.anchor - B.x[j.body_a]), j.anchor};
       if (j.body_b >= 0) an.lb = B.q[j.body_b].conjugate() * (j.anchor - B.x[j.body_b]);
@@ -23,7 +24,7 @@ class JointGapMeter {
   }
   // Largest anchor distance over all joints in the world's current state.
   double max_gap(const World& world) const {
-    const Bodies& B = world.bodies();
+    const Bodies& B = world_bodies(world);
     double worst = 0;
     for (const Anchor& an : anchors_) {
       const Vec3 pa = B.x[an.a] + B.q[an.a] * an.la;
