@@ -2,7 +2,9 @@
 // The one interface through which the Newton solver (newton.hpp) reaches the matrix (DESIGN.md §3).
 // A Newton state fixes, for every row of the island, which linear equation it obeys (a piece of
 // the natural map):
-//   Free    (A x)_j + shift_j x_j = g_j      (w_j = 0; shift is the proximal safeguard, usually 0)
+//   Free    (A x)_j + shift_j x_j - tie_j x_n(j) = g_j
+//                                            (w_j = 0 for tie = shift = 0; the interior-point phase
+//                                             shifts every row and couples friction to its normal)
 //   Fixed   x_j = g_j                        (at a bound given as a number)
 //   Tied    x_j - tie_j x_n(j) = g_j         (friction at the edge of its box: lambda_t = +-mu lambda_n;
 //                                             its normal row n(j) is Free)
@@ -20,7 +22,7 @@ enum class RowEquation : std::uint8_t { Free, Fixed, Tied };
 
 struct Piece {
   std::vector<RowEquation> equation;
-  Eigen::VectorXd tie;    // Tied rows: +-mu_j
+  Eigen::VectorXd tie;    // Tied rows: +-mu_j; Free rows: a coupling to the normal (usually 0)
   Eigen::VectorXd shift;  // Free rows: proximal shift (>= 0)
 };
 

@@ -1,6 +1,7 @@
 #include "solve/newton.hpp"
 
 #include "core/timer.hpp"
+#include "solve/interior_point.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,17 +11,9 @@ namespace rbpart {
 
 namespace {
 
-constexpr double kArmijo = 1e-4;     // sufficient decrease: merit falls by 2 kArmijo alpha of itself
-constexpr int kHalvings = 10;        // step lengths 1, 1/2, ..., 1/1024 (no factorisation: products only)
-constexpr double kFirstShift = 1e-3; // proximal shift after the first failed line search, times A_jj
-constexpr double kLargestShift = 1e4;
-constexpr int kRefinements = 3;      // refinement solves per step, at most
-
-// Merit 1/2 ||D F||^2; NaN counts as infinite.
-double merit(const Eigen::VectorXd& fw) {
-  const double m = 0.5 * fw.squaredNorm();
-  return std::isnan(m) ? std::numeric_limits<double>::infinity() : m;
-}
+constexpr int kRefinements = 3;  // refinement solves per Newton step, at most
+// Full Newton steps without a better answer before the interior-point phase takes over.
+constexpr int kPatience = 2;
 
 // max_j |fw_j| / scale, NaN as infinite.
 double residual_of(const Eigen::VectorXd& fw, double scale) {
@@ -54,7 +47,7 @@ void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda) {
 // starts free when it approaches). Normals and joints come first: a friction row ties only to a
 // free normal, and its box is closed (lambda_t = 0) when the normal is at 0.
 void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
-                  const std::vector<RowState>* warm, double rho, NewtonWorkspace& ws) {
+                  const std::vector<RowState>* warm, NewtonWorkspace& ws) {
   Piece& piece = ws.piece;
   std::vector<RowState>& state = ws.piece_state;
   const int n = s.rows;
@@ -63,11 +56,9 @@ void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Ei
   piece.shift.setZero(n);
   state.resize(n);
   ws.g.resize(n);
-  // A free row: w_j + shift_j (lambda_j - lambda_k,j) = 0 at the proximal centre lambda_k.
-  const auto set_free = [&](int j) {
+  const auto set_free = [&](int j) {  // w_j = 0
     piece.equation[j] = RowEquation::Free;
-    piece.shift[j] = rho * s.diag[j];
-    ws.g[j] = -s.q[j] + piece.shift[j] * lambda[j];
+    ws.g[j] = -s.q[j];
   };
   for (int j = 0; j < n; ++j) {
     if (s.normal_of[j] >= 0) continue;
@@ -118,7 +109,7 @@ double piece_residual(const IslandSystem& s, const Piece& piece, const Eigen::Ve
   double worst = 0;
   for (int j = 0; j < s.rows; ++j) {
     switch (piece.equation[j]) {
-      case RowEquation::Free: e[j] = g[j] - ax[j] - piece.shift[j] * x[j]; break;
+      case RowEquation::Free: e[j] = g[j] - ax[j] - piece.shift[j] * x[j] + (piece.tie[j] != 0 ? piece.tie[j] * x[s.normal_of[j]] : 0.0); break;
       case RowEquation::Fixed: e[j] = g[j] - x[j]; break;
       case RowEquation::Tied: e[j] = g[j] - (x[j] - piece.tie[j] * x[s.normal_of[j]]); break;
     }
@@ -145,41 +136,32 @@ void scaled_natural_map(const IslandSystem& s, const Eigen::VectorXd& lambda, co
 NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_factorizations, Eigen::VectorXd& lambda,
                           std::vector<RowState>& state, NewtonWorkspace& ws) {
   NewtonResult result;
-  for (int j = 0; j < s.rows; ++j)
-    if (!std::isfinite(lambda[j])) lambda[j] = 0;
   const double scale = std::max(max_abs(s.q), 1e-12);
-  // The answer is the admissible point of least residual: each iterate projected onto its bounds.
+  // The answer is the admissible point of least residual among the projected iterates.
   result.residual = std::numeric_limits<double>::infinity();
-  const auto keep_if_better = [&] {
-    ws.trial = lambda;
-    project_onto_bounds(s, ws.trial);
-    velocities(s, ws.trial, ws.du, ws.trial_w);
-    scaled_natural_map(s, ws.trial, ws.trial_w, ws.trial_fw);
-    const double r = residual_of(ws.trial_fw, scale);
-    if (ws.best.size() == 0 || r < result.residual) {
-      result.residual = r;
-      ws.best = ws.trial;
+  double last = 0;  // the residual of the last point considered
+  const auto consider = [&](Eigen::VectorXd& candidate) {
+    project_onto_bounds(s, candidate);
+    velocities(s, candidate, ws.du, ws.trial_w);
+    scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw);
+    last = residual_of(ws.trial_fw, scale);
+    if (last < result.residual) {
+      result.residual = last;
+      ws.best = candidate;
+      ws.w = ws.trial_w;
     }
   };
-  ws.best.resize(0);
-  keep_if_better();
-  velocities(s, lambda, ws.du, ws.w);
-  scaled_natural_map(s, lambda, ws.w, ws.fw);
-  double rho = 0;
-  bool warm = true;
-  while (result.residual > kSettledResidual && result.factorizations < max_factorizations) {
-    choose_piece(s, lambda, ws.w, warm ? &state : nullptr, rho, ws);
-    warm = false;
-    ++result.iterations;
+  const auto settled = [&] {
+    return result.residual <= kSettledResidual || result.factorizations >= max_factorizations;
+  };
+  // The solution of a piece (one factorisation), refined against its exact equations, in ws.x.
+  const auto solve_piece = [&]() {
     ++result.factorizations;
+    ++result.iterations;
     const Timer timer;
     const bool factored = system.factor(ws.piece);
     result.factor_ms += timer.ms();
-    if (!factored) {
-      rho = rho == 0 ? kFirstShift : 10 * rho;
-      continue;
-    }
-    // The piece's solution, refined against its exact equations.
+    if (!factored) return false;
     system.solve(ws.g, ws.x);
     double error = piece_residual(s, ws.piece, ws.g, ws.x, ws.du, ws.ad, ws.e);
     for (int r = 0; r < kRefinements && error > 1e-15 * scale; ++r) {
@@ -190,34 +172,68 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       error = next;
       ws.x = ws.trial;
     }
-    // Line search along d = x - lambda on the merit; w is affine in the step.
-    ws.d = ws.x - lambda;
-    apply_a(s, ws.d, ws.du, ws.ad);
-    const double merit0 = merit(ws.fw);
-    double alpha = 1;
-    bool accepted = false;
-    for (int h = 0; h <= kHalvings; ++h, alpha *= 0.5) {
-      ws.trial = lambda + alpha * ws.d;
-      ws.trial_w = ws.w + alpha * ws.ad;
-      scaled_natural_map(s, ws.trial, ws.trial_w, ws.trial_fw);
-      if (merit(ws.trial_fw) <= (1 - 2 * kArmijo * alpha) * merit0) {
-        accepted = true;
-        break;
+    return ws.x.allFinite();
+  };
+  // Full Newton steps from ws.base (velocities ws.base_w): each takes the state the natural map
+  // gives at the last step's solution, unprojected, so that rows it pushed past a bound are fixed
+  // there and rows whose bound pushes them inward are freed, many at a time (primal-dual active
+  // set). The first from the warm start takes its states (at rest: the answer). They stop on a
+  // repeated state or after kPatience steps without a better answer.
+  const auto newton_steps = [&](const std::vector<RowState>* warm) {
+    int idle = 0;
+    ws.last_state.clear();
+    while (!settled() && idle < kPatience) {
+      choose_piece(s, ws.base, ws.base_w, warm, ws);
+      warm = nullptr;
+      if (ws.piece_state == ws.last_state) return;
+      ws.last_state = ws.piece_state;
+      if (!solve_piece()) return;
+      ws.base = ws.x;
+      velocities(s, ws.base, ws.du, ws.base_w);
+      const double before = result.residual;
+      consider(ws.x);
+      idle = result.residual < before ? 0 : idle + 1;
+    }
+  };
+
+  ws.start = lambda;
+  for (int j = 0; j < s.rows; ++j)
+    if (!std::isfinite(ws.start[j])) ws.start[j] = 0;
+  ws.base = ws.start;
+  velocities(s, ws.base, ws.du, ws.base_w);
+  ws.trial = ws.start;
+  consider(ws.trial);
+  newton_steps(&state);
+  // The interior-point phase, from a cold start: after each of its steps, the state its iterate
+  // gives; when that state is the one of the step before (and not tried yet), Newton steps from it.
+  if (!settled()) {
+    ws.ipm.start(s, Eigen::VectorXd::Zero(s.rows));
+    ws.ipm_state.clear();
+    ws.tried_state.clear();
+    while (!settled()) {
+      ++result.factorizations;
+      ++result.iterations;
+      const Timer timer;
+      const bool stepped = ws.ipm.step(system) > 0;
+      result.factor_ms += timer.ms();
+      ws.trial = ws.ipm.lambda();
+      consider(ws.trial);
+      if (settled()) break;
+      velocities(s, ws.trial, ws.du, ws.trial_w);
+      choose_piece(s, ws.trial, ws.trial_w, nullptr, ws);
+      if ((ws.piece_state == ws.ipm_state && ws.piece_state != ws.tried_state) || !stepped) {
+        ws.tried_state = ws.piece_state;
+        ws.base = ws.trial;
+        ws.base_w = ws.trial_w;
+        newton_steps(nullptr);
+        if (!stepped) break;
       }
+      ws.ipm_state = ws.piece_state;
     }
-    if (!accepted) {
-      rho = rho == 0 ? kFirstShift : std::min(10 * rho, kLargestShift);
-      continue;
-    }
-    lambda = ws.trial;
-    velocities(s, lambda, ws.du, ws.w);
-    scaled_natural_map(s, lambda, ws.w, ws.fw);
-    keep_if_better();
-    if (alpha == 1) rho = rho < 1e-9 ? 0 : 0.1 * rho;
   }
   lambda = ws.best;
   velocities(s, lambda, ws.du, ws.w);
-  choose_piece(s, lambda, ws.w, nullptr, 0, ws);
+  choose_piece(s, lambda, ws.w, nullptr, ws);
   state = ws.piece_state;
   result.settled = result.residual <= kSettledResidual;
   return result;

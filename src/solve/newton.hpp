@@ -1,28 +1,34 @@
 #pragma once
-// The one contact solver (DESIGN.md §3): a semismooth Newton method on the coupled natural map
+// The one contact solver (DESIGN.md §3) on the coupled natural map
 //   F_j(lambda) = lambda_j - mid(lo_j(lambda), lambda_j - w_j / A_jj, hi_j(lambda)),  w = A lambda + q,
 // joints, normals and friction in one solve, friction bounds +-mu_j max(0, lambda_n) of the same
 // iterate. F is piecewise linear; each piece is a Newton state (linear_system.hpp: every row Free,
-// Fixed at a bound, or Tied to its normal), and a Newton step solves the piece's linear system:
+// Fixed at a bound, or Tied to its normal), and a Newton step solves the piece's linear system
+// (one factorisation, the unit of cost), refined against its exact equations.
 //
-//   1. state: the piece of F at the iterate (the first iteration takes the warm start's states, so
-//      that at rest the first step is the answer);
-//   2. step: factor that piece's system (one factorisation, the unit of cost) and solve it, refined
-//      against the exact equations (the body-space form loses digits to the small regularisation);
-//   3. line search: Armijo backtracking on the merit 1/2 ||D F||^2, D = diag(A_jj) (the residual's
-//      scaling: velocities), along the step to the piece's solution;
-//   4. safeguard: when no step length decreases the merit (the iterate sits on a kink that the
-//      piece's Newton step cannot leave, or a piece is nearly singular), the next system gets a
-//      proximal shift rho A_jj (lambda_j - lambda_k,j) on its free rows: shorter steps on a better
-//      conditioned system that still converge to the same solution (proximal point). rho grows
-//      tenfold on every failure and falls tenfold on every full step.
+//   1. Newton steps from the warm start: the first on the previous step's states (at rest it is
+//      the answer: one factorisation), each next one on the state F gives at the last step's
+//      solution (primal-dual active set: every row the step pushed past a bound is fixed there,
+//      every fixed row whose bound pushes it inward is freed). They stop when the state repeats or
+//      two steps bring no better answer.
+//   2. Otherwise an interior-point phase (interior_point.hpp: Mehrotra's predictor-corrector on
+//      the same complementarity problem, friction coupled to its normal) from a cold start. It
+//      has no state to get wrong, so the kinks of F do not stall it: it finds the answer's state.
+//      When two consecutive interior iterates give the same state, and that state was not tried,
+//      step 1's Newton steps run from the iterate; they end the solve exactly.
 //
-// The answer is always admissible: every iterate is projected onto its bounds (normals and joint
-// limits, then friction onto the box of its projected normal), and the projected point of least
-// residual is kept (an iterate's free normals can be negative; applying one would pull bodies
-// together, and projecting only the last iterate can launch bodies). It stops when that residual,
-// max_j A_jj |F_j| / max_j |q_j|, is at most kSettledResidual, or after max_factorizations
-// factorisations (the budget).
+// Why not one globalised Newton method (a line search on 1/2 ||D F||^2, a proximal safeguard):
+// measured on the box piles, its Newton directions stop being descent directions a step of 1e-3
+// into them wherever friction sits between sticking and sliding (its eight friction rows on a box's
+// three planar freedoms are fixed only by sigma, so the kinks of F lie ~sigma apart), and 5-37 % of
+// islands of 1-500 rows ended unsettled; bench/results/amd-epyc-2core/newton/experiments/.
+//
+// The answer is always admissible: every point considered is projected onto its bounds (normals
+// and joint limits, then friction onto the box of its projected normal), and the projected point of
+// least residual, max_j A_jj |F_j| / max_j |q_j|, is kept. It stops when that residual is at most
+// kSettledResidual, or after max_factorizations factorisations (the budget; interior-point steps
+// count one each).
+#include "solve/interior_point.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
 
@@ -47,7 +53,10 @@ struct NewtonResult {
 struct NewtonWorkspace {
   Piece piece;
   std::vector<RowState> piece_state;
-  Eigen::VectorXd w, fw, g, x, e, ex, d, ad, trial, trial_w, trial_fw, best, du;
+  Eigen::VectorXd w, fw, g, x, e, ex, d, ad, trial, trial_w, trial_fw, best, du, start, base, base_w;
+  InteriorPoint ipm;
+  // The state of the last Newton step; of the interior point's last iterate; the last one tried from it.
+  std::vector<RowState> last_state, ipm_state, tried_state;
 };
 
 // Solves the island's coupled problem in place: `lambda` and `state` carry the warm start in

@@ -8,6 +8,7 @@
 #include "core/timer.hpp"
 #include "solve/blcp.hpp"
 #include "solve/direct_island.hpp"
+#include "solve/island_parts.hpp"
 #include "solve/island_system.hpp"
 #include "solve/residual.hpp"
 #include "solve/sub_island.hpp"
@@ -36,15 +37,9 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
   SplitOutcome out;
   IslandSystem s;
   s.gather(rows, bodies, islands, island, local_row);
-  // The island's parts, numbered in increasing part id.
-  std::vector<int> part_of_body(s.bodies), ids(s.bodies);
-  for (int b = 0; b < s.bodies; ++b) ids[b] = partition.part_of[graph.node_of[s.global_bodies[b]]];
-  std::vector<int> distinct = ids;
-  std::sort(distinct.begin(), distinct.end());
-  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-  for (int b = 0; b < s.bodies; ++b)
-    part_of_body[b] = static_cast<int>(std::lower_bound(distinct.begin(), distinct.end(), ids[b]) - distinct.begin());
-  if (distinct.size() < 2 || !(s.sigma.array() > 0).all()) {
+  const std::vector<int> part_of_body = island_parts(s, graph, partition);
+  const int parts = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
+  if (parts < 2 || !(s.sigma.array() > 0).all()) {
     const Timer timer;
     out.island = solve_island(rows, bodies, islands, island, local_row, params);
     out.monolithic_ms = timer.ms();
@@ -53,7 +48,7 @@ SplitOutcome solve_split_island(Rows& rows, const Bodies& bodies, const Islands&
     out.sub.other_ms = out.wall_ms - out.monolithic_ms;
     return out;
   }
-  out.parts = static_cast<int>(distinct.size());
+  out.parts = parts;
 
   Eigen::VectorXd lambda(s.rows), previous;
   std::vector<RowState> state(s.rows);

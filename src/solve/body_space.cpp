@@ -1,0 +1,150 @@
+#include "solve/body_space.hpp"
+
+#include <algorithm>
+
+namespace rbpart {
+
+void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows,
+                             const std::vector<Mat6>& mass, int dense_max_bodies) {
+  s_ = &s;
+  bodies_ = std::move(bodies);
+  rows_ = std::move(rows);
+  const int nb = this->bodies(), nr = static_cast<int>(rows_.size());
+  mass_.resize(nb);
+  for (int b = 0; b < nb; ++b) mass_[b] = mass[bodies_[b]];
+  body_.resize(nr);
+  normal_.resize(nr);
+  for (int k = 0; k < nr; ++k) {
+    const int j = rows_[k];
+    for (int p = 0; p < 2; ++p) body_[k][p] = s.body[j][p] < 0 ? -1 : local_body(s.body[j][p]);
+    normal_[k] = s.normal_of[j] < 0 ? -1
+                                    : static_cast<int>(std::lower_bound(rows_.begin(), rows_.end(), s.normal_of[j]) -
+                                                       rows_.begin());
+  }
+  equation_.assign(nr, RowEquation::Fixed);
+  tie_.assign(nr, 0.0);
+  shift_.assign(nr, 0.0);
+  inv_s_.assign(nr, 0.0);
+  tie_weight_.assign(nr, 0.0);
+  factored_ = false;
+  if (nb <= dense_max_bodies) {
+    n_.assign_dense(6 * nb);
+    return;
+  }
+  // The body graph, one list per body, from the rows with two bodies.
+  std::vector<std::array<int, 2>> pairs;
+  pairs.reserve(2 * nr + nb);
+  for (int b = 0; b < nb; ++b) pairs.push_back({b, b});
+  for (const auto& slot : body_)
+    if (slot[1] >= 0) {
+      pairs.push_back({slot[0], slot[1]});
+      pairs.push_back({slot[1], slot[0]});
+    }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  adjacent_start_.assign(nb + 1, 0);
+  adjacent_.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    ++adjacent_start_[pairs[k][0] + 1];
+    adjacent_[k] = pairs[k][1];
+  }
+  for (int b = 0; b < nb; ++b) adjacent_start_[b + 1] += adjacent_start_[b];
+  std::vector<int> colptr(1, 0), rowind;
+  for (int c = 0; c < nb; ++c)
+    for (int k = 0; k < 6; ++k) {
+      for (int a = adjacent_start_[c]; a < adjacent_start_[c + 1]; ++a)
+        for (int i = 0; i < 6; ++i) rowind.push_back(6 * adjacent_[a] + i);
+      colptr.push_back(static_cast<int>(rowind.size()));
+    }
+  n_.assign_sparse(6 * nb, std::move(colptr), std::move(rowind));
+}
+
+int BodySpaceSystem::local_body(int b) const {
+  return static_cast<int>(std::lower_bound(bodies_.begin(), bodies_.end(), b) - bodies_.begin());
+}
+
+BodySpaceSystem::Block BodySpaceSystem::block(int r, int c) {
+  const int start = n_.column_start(6 * c), stride = n_.column_start(6 * c + 1) - start;
+  int position = r;
+  if (!n_.dense()) {
+    const int* first = adjacent_.data() + adjacent_start_[c];
+    const int* last = adjacent_.data() + adjacent_start_[c + 1];
+    position = static_cast<int>(std::lower_bound(first, last, r) - first);
+  }
+  return Block(n_.values() + start + 6 * position, 6, 6, Eigen::OuterStride<>(stride));
+}
+
+bool BodySpaceSystem::factor(const Piece& piece) {
+  const IslandSystem& s = *s_;
+  const int nr = static_cast<int>(rows_.size());
+  n_.set_zero();
+  for (int b = 0; b < bodies(); ++b) block(b, b) = mass_[b];
+  bool tied = false;
+  for (int k = 0; k < nr; ++k) {
+    const int j = rows_[k];
+    equation_[k] = piece.equation[j];
+    tie_[k] = piece.tie[j];
+    shift_[k] = piece.shift[j];
+    if (equation_[k] == RowEquation::Free) inv_s_[k] = 1.0 / (s.sigma[j] + shift_[k]);
+  }
+  // A row's tie to its normal enters its impulse as tie_weight_k x_n: c_t (Tied), c_j / s_j (Free).
+  for (int k = 0; k < nr; ++k)
+    tie_weight_[k] = equation_[k] == RowEquation::Tied ? tie_[k] : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k] : 0.0;
+  const auto add = [&](int k, int m, double scale) {
+    const int j = rows_[k], n = rows_[m];
+    for (int p = 0; p < 2; ++p) {
+      if (body_[k][p] < 0) continue;
+      const Vec6 jp = scale * s.jac[j][p];
+      for (int q = 0; q < 2; ++q)
+        if (body_[m][q] >= 0) block(body_[k][p], body_[m][q]).noalias() += jp * s.jac[n][q].transpose();
+    }
+  };
+  for (int k = 0; k < nr; ++k) {
+    // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n (the normal's slots on the same bodies).
+    if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k]);
+    if (tie_weight_[k] != 0) {
+      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]]);
+      tied = true;
+    }
+  }
+  factored_ = n_.factor(!tied);
+  return factored_;
+}
+
+bool BodySpaceSystem::factored_for(const Piece& piece) const {
+  if (!factored_) return false;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const int j = rows_[k];
+    if (piece.equation[j] != equation_[k] || piece.tie[j] != tie_[k] || piece.shift[j] != shift_[k]) return false;
+  }
+  return true;
+}
+
+void BodySpaceSystem::add_rhs(const Eigen::VectorXd& g, Eigen::VectorXd& h) const {
+  const IslandSystem& s = *s_;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const int j = rows_[k];
+    double value = equation_[k] == RowEquation::Free ? g[j] * inv_s_[k] : g[j];
+    if (tie_weight_[k] != 0) value += tie_weight_[k] * g[rows_[normal_[k]]] * inv_s_[normal_[k]];
+    for (int p = 0; p < 2; ++p)
+      if (body_[k][p] >= 0) h.segment<6>(6 * body_[k][p]) += s.jac[j][p] * value;
+  }
+}
+
+double BodySpaceSystem::velocity(int k, const Eigen::VectorXd& u) const {
+  double v = 0;
+  for (int p = 0; p < 2; ++p)
+    if (body_[k][p] >= 0) v += s_->jac[rows_[k]][p].dot(u.segment<6>(6 * body_[k][p]));
+  return v;
+}
+
+void BodySpaceSystem::recover(const Eigen::VectorXd& g, const Eigen::VectorXd& u, Eigen::VectorXd& x) const {
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const int j = rows_[k];
+    x[j] = equation_[k] == RowEquation::Free ? (g[j] - velocity(static_cast<int>(k), u)) * inv_s_[k] : g[j];
+  }
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    if (tie_weight_[k] != 0) x[rows_[k]] += tie_weight_[k] * x[rows_[normal_[k]]];
+}
+
+}  // namespace rbpart

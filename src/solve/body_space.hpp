@@ -1,0 +1,71 @@
+#pragma once
+// The body-space form of a Newton piece's system (linear_system.hpp, DESIGN.md §3) on a set of
+// bodies and the rows among them: a whole island for the monolithic backend (monolithic.hpp), one
+// part's bodies and sub-system rows for the substructured one (substructured_system.hpp). With
+// u = M^-1 J^T x, a Free row gives x_j = (g_j + c_j x_n - J_j u) / s_j (s_j = sigma_j + shift_j; c_j,
+// its coupling to its normal, is 0 but in the interior-point steps), a Fixed row x_j = g_j and a
+// Tied row x_t = g_t + c_t x_n. With a row's tie weight t_j = c_j / s_j (Free), c_t (Tied), M u = J^T x becomes
+//   N u = h,  N = M + sum_Free J_j^T J_j / s_j + sum_tied (t_j / s_n) J_j^T J_n,
+//   h = sum_Free J_j^T g_j / s_j + sum_Fixed J_j^T g_j + sum_Tied J_t^T g_t + sum_tied t_j J_j^T g_n / s_n
+// (plus whatever impulses of other rows act on the bodies: the substructured backend's interface).
+// N has 6 x 6 blocks on the body graph: 6 unknowns per body against ~20 rows per body on a pile.
+// A tie adds a non-symmetric 12 x 12 term on its contact's two bodies, whose blocks N already has,
+// so the pattern depends on the rows alone and is analysed once. Dense (Eigen) for at most
+// dense_max_bodies bodies, else sparse (pattern_factor.hpp).
+#include "solve/island_system.hpp"
+#include "solve/linear_system.hpp"
+#include "solve/pattern_factor.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace rbpart {
+
+class BodySpaceSystem {
+ public:
+  // `bodies` and `rows` are island bodies and rows, both increasing; every body of a row is in
+  // `bodies`. `mass` is M per island body. `s` must outlive the solves.
+  void assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows, const std::vector<Mat6>& mass,
+              int dense_max_bodies);
+
+  int bodies() const { return static_cast<int>(bodies_.size()); }
+  // Position of island body b among the bodies (b must be one of them).
+  int local_body(int b) const;
+
+  // Factors N of `piece` on the rows (whose equations, ties and shifts it keeps); false if
+  // numerically singular.
+  bool factor(const Piece& piece);
+  // Whether `piece` gives the rows the equations, ties and shifts of the last factor().
+  bool factored_for(const Piece& piece) const;
+  // h += the rows' terms of h for right-hand side g (island rows); h has 6 entries per local body.
+  void add_rhs(const Eigen::VectorXd& g, Eigen::VectorXd& h) const;
+  // h <- N^-1 h for `columns` vectors of 6 * bodies() entries stored one after another.
+  void solve(double* h, int columns = 1) { n_.solve(h, columns); }
+  // The rows' x (island numbering) from g and the bodies' u = N^-1 h.
+  void recover(const Eigen::VectorXd& g, const Eigen::VectorXd& u, Eigen::VectorXd& x) const;
+
+ private:
+  using Block = Eigen::Map<Mat6, 0, Eigen::OuterStride<>>;
+  // N's block of (row body r, column body c), local bodies.
+  Block block(int r, int c);
+  // J_j u for local row k.
+  double velocity(int k, const Eigen::VectorXd& u) const;
+
+  const IslandSystem* s_ = nullptr;
+  std::vector<int> bodies_, rows_;
+  std::vector<std::array<int, 2>> body_;  // local body per slot of each local row, -1 = none
+  std::vector<int> normal_;               // local row of a row's normal, -1 if none
+  std::vector<Mat6> mass_;                // per local body
+  // The piece of the last factor() on the rows; 1 / s_j on Free rows.
+  std::vector<RowEquation> equation_;
+  std::vector<double> tie_, shift_, inv_s_, tie_weight_;
+  bool factored_ = false;
+  // Sparse: the bodies adjacent to each body (itself included, increasing); column 6c + k of N
+  // holds the six rows of each adjacent body's block, in order, both triangles stored.
+  std::vector<int> adjacent_start_, adjacent_;
+  PatternFactor n_;
+};
+
+}  // namespace rbpart

@@ -1,0 +1,176 @@
+#include "solve/interior_point.hpp"
+
+#include "solve/blcp.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rbpart {
+
+namespace {
+
+constexpr double kToBoundary = 0.99;  // fraction of the step to the nearest bound taken
+
+// A row with an empty interior (frictionless friction, lo = hi) is held at its bound.
+bool closed(const IslandSystem& s, int j) {
+  return s.normal_of[j] >= 0 ? !(s.mu[j] > 0) : !(s.lo[j] < s.hi[j]);
+}
+bool has_lo(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of[j] >= 0 || std::isfinite(s.lo[j])); }
+bool has_hi(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j])); }
+
+// Slacks of lambda's bounds (friction: the box of lambda's own normal); 0 where there is no bound.
+void slacks(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& slo, Eigen::VectorXd& shi) {
+  slo.setZero(s.rows);
+  shi.setZero(s.rows);
+  for (int j = 0; j < s.rows; ++j) {
+    const int n = s.normal_of[j];
+    if (n >= 0) {
+      slo[j] = lambda[j] + s.mu[j] * lambda[n];
+      shi[j] = s.mu[j] * lambda[n] - lambda[j];
+      continue;
+    }
+    if (std::isfinite(s.lo[j])) slo[j] = lambda[j] - s.lo[j];
+    if (std::isfinite(s.hi[j])) shi[j] = s.hi[j] - lambda[j];
+  }
+}
+
+// Changes of the slacks for a change d of the impulses (friction: with its normal's change).
+void slack_steps(const IslandSystem& s, const Eigen::VectorXd& d, Eigen::VectorXd& dslo, Eigen::VectorXd& dshi) {
+  dslo.setZero(s.rows);
+  dshi.setZero(s.rows);
+  for (int j = 0; j < s.rows; ++j) {
+    const int n = s.normal_of[j];
+    const double coupled = n >= 0 ? s.mu[j] * d[n] : 0.0;
+    if (has_lo(s, j)) dslo[j] = d[j] + coupled;
+    if (has_hi(s, j)) dshi[j] = coupled - d[j];
+  }
+}
+
+// The largest alpha in (0, 1] with x + alpha dx >= 0 on the bounds that exist.
+double step_to_boundary(const IslandSystem& s, const Eigen::VectorXd& x, const Eigen::VectorXd& dx, bool lower) {
+  double alpha = 1;
+  for (int j = 0; j < s.rows; ++j)
+    if ((lower ? has_lo(s, j) : has_hi(s, j)) && dx[j] < 0) alpha = std::min(alpha, -x[j] / dx[j]);
+  return alpha;
+}
+
+}  // namespace
+
+void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) {
+  s_ = &s;
+  const int n = s.rows;
+  const double scale = std::max(max_abs(s.q), 1e-12);
+  lambda_ = lambda;
+  for (int j = 0; j < n; ++j) {
+    if (!std::isfinite(lambda_[j])) lambda_[j] = 0;
+    if (closed(s, j)) lambda_[j] = s.normal_of[j] >= 0 ? 0.0 : s.lo[j];
+    if (s.normal_of[j] >= 0 || closed(s, j)) continue;
+    const double margin = 0.1 * scale / s.diag[j];
+    const bool lo = std::isfinite(s.lo[j]), hi = std::isfinite(s.hi[j]);
+    const double inset = lo && hi ? std::min(margin, 0.25 * (s.hi[j] - s.lo[j])) : margin;
+    if (lo) lambda_[j] = std::max(lambda_[j], s.lo[j] + inset);
+    if (hi) lambda_[j] = std::min(lambda_[j], s.hi[j] - inset);
+  }
+  for (int j = 0; j < n; ++j)
+    if (s.normal_of[j] >= 0 && !closed(s, j)) {
+      const double bound = 0.5 * s.mu[j] * lambda_[s.normal_of[j]];
+      lambda_[j] = std::clamp(lambda_[j], -bound, bound);
+    }
+  apply_a(s, lambda_, du_, w_);
+  w_ += s.q;
+  zlo_.setZero(n);
+  zhi_.setZero(n);
+  for (int j = 0; j < n; ++j) {
+    if (has_lo(s, j)) zlo_[j] = std::max(w_[j], 0.0) + 0.1 * scale;
+    if (has_hi(s, j)) zhi_[j] = std::max(-w_[j], 0.0) + 0.1 * scale;
+  }
+  piece_.equation.resize(n);
+  for (int j = 0; j < n; ++j) piece_.equation[j] = closed(s, j) ? RowEquation::Fixed : RowEquation::Free;
+  piece_.tie.setZero(n);
+  piece_.shift.setZero(n);
+  gap0_ = 0;
+}
+
+double InteriorPoint::step(LinearSystem& system) {
+  const IslandSystem& s = *s_;
+  const int n = s.rows;
+  slacks(s, lambda_, slo_, shi_);
+  apply_a(s, lambda_, du_, w_);
+  w_ += s.q;
+  double gap = 0;
+  int bounds = 0;
+  for (int j = 0; j < n; ++j) {
+    double dlo = 0, dhi = 0;
+    if (has_lo(s, j)) {
+      gap += zlo_[j] * slo_[j];
+      dlo = zlo_[j] / slo_[j];
+      ++bounds;
+    }
+    if (has_hi(s, j)) {
+      gap += zhi_[j] * shi_[j];
+      dhi = zhi_[j] / shi_[j];
+      ++bounds;
+    }
+    piece_.shift[j] = dlo + dhi;
+    if (s.normal_of[j] >= 0 && !closed(s, j)) piece_.tie[j] = s.mu[j] * (dhi - dlo);
+  }
+  if (bounds == 0) return 0;
+  gap /= bounds;
+  if (gap0_ == 0) gap0_ = gap;
+  // Complementarity met to round-off: further steps would only divide by vanishing slacks.
+  if (!(gap > 1e-15 * gap0_)) return 0;
+  if (!system.factor(piece_)) return 0;
+  // Predictor (tau = 0): the right-hand side is -w (0 on closed rows, which do not move).
+  r_.resize(n);
+  for (int j = 0; j < n; ++j) r_[j] = closed(s, j) ? 0.0 : -w_[j];
+  system.solve(r_, d_);
+  slack_steps(s, d_, dslo_, dshi_);
+  dzlo_.setZero(n);
+  dzhi_.setZero(n);
+  for (int j = 0; j < n; ++j) {
+    if (has_lo(s, j)) dzlo_[j] = -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j];
+    if (has_hi(s, j)) dzhi_[j] = -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j];
+  }
+  const double affine = std::min({step_to_boundary(s, slo_, dslo_, true), step_to_boundary(s, shi_, dshi_, false),
+                                  step_to_boundary(s, zlo_, dzlo_, true), step_to_boundary(s, zhi_, dzhi_, false)});
+  double gap_affine = 0;
+  for (int j = 0; j < n; ++j) {
+    if (has_lo(s, j)) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
+    if (has_hi(s, j)) gap_affine += (zhi_[j] + affine * dzhi_[j]) * (shi_[j] + affine * dshi_[j]);
+  }
+  gap_affine /= bounds;
+  const double tau = std::clamp(std::pow(gap_affine / gap, 3), 0.0, 1.0) * gap;
+  // Corrector: centring and the predictor's second-order term. dz_* holds the complementarity
+  // target until the step is known.
+  for (int j = 0; j < n; ++j) {
+    double rhs = -(w_[j] - zlo_[j] + zhi_[j]);
+    if (has_lo(s, j)) {
+      dzlo_[j] = tau - zlo_[j] * slo_[j] - dzlo_[j] * dslo_[j];
+      rhs += dzlo_[j] / slo_[j];
+    }
+    if (has_hi(s, j)) {
+      dzhi_[j] = tau - zhi_[j] * shi_[j] - dzhi_[j] * dshi_[j];
+      rhs -= dzhi_[j] / shi_[j];
+    }
+    r_[j] = closed(s, j) ? 0.0 : rhs;
+  }
+  system.solve(r_, d_);
+  slack_steps(s, d_, dslo_, dshi_);
+  for (int j = 0; j < n; ++j) {
+    if (has_lo(s, j)) dzlo_[j] = (dzlo_[j] - zlo_[j] * dslo_[j]) / slo_[j];
+    if (has_hi(s, j)) dzhi_[j] = (dzhi_[j] - zhi_[j] * dshi_[j]) / shi_[j];
+  }
+  // One step length for impulses and multipliers (they are coupled through w), 99 % of the way to
+  // the boundary.
+  const double alpha =
+      std::min(1.0, kToBoundary * std::min({step_to_boundary(s, slo_, dslo_, true), step_to_boundary(s, shi_, dshi_, false),
+                                            step_to_boundary(s, zlo_, dzlo_, true), step_to_boundary(s, zhi_, dzhi_, false)}));
+  trial_ = lambda_ + alpha * d_;
+  if (!trial_.allFinite() || !(alpha > 0)) return 0;
+  lambda_ = trial_;
+  zlo_ += alpha * dzlo_;
+  zhi_ += alpha * dzhi_;
+  return alpha;
+}
+
+}  // namespace rbpart

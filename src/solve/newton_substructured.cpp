@@ -1,0 +1,63 @@
+#include "solve/newton_substructured.hpp"
+
+#include "core/timer.hpp"
+#include "solve/island_parts.hpp"
+#include "solve/island_system.hpp"
+#include "solve/newton_island.hpp"
+#include "solve/substructured_system.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rbpart {
+
+namespace {
+
+struct IslandOutcome {
+  NewtonResult newton;
+  int parts = 0, interface_rows = 0, interface_bodies = 0, parts_refactored = 0;
+  double work_ms = 0, critical_path_ms = 0;
+};
+
+}  // namespace
+
+NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
+                                                     const ConstraintGraph& graph, const Partition& partition,
+                                                     const SolverParams& params) {
+  if (static_cast<int>(partition.part_of.size()) != graph.node_count())
+    throw std::invalid_argument("solve_newton_substructured: the partition does not cover the graph's nodes");
+  const std::vector<int> local_row = local_row_index(rows, islands);
+  std::vector<IslandOutcome> outcome(islands.count());
+  for_each_island(islands, [&](int i) {
+    const Timer wall;
+    IslandSystem s;
+    s.gather(rows, bodies, islands, i, local_row);
+    SubstructuredSystem system;
+    system.assign(s, island_parts(s, graph, partition), params.dense_max_bodies);
+    IslandOutcome& o = outcome[i];
+    o.newton = solve_island_newton(s, system, params.max_factorizations, rows);
+    o.parts = system.parts();
+    o.interface_rows = system.interface_rows();
+    o.interface_bodies = system.interface_bodies();
+    const SubstructuredCost& cost = system.total();
+    o.parts_refactored = cost.parts_refactored;
+    // Outside the backend's calls the island is serial.
+    const double rest = wall.ms() - cost.wall_ms;
+    o.work_ms = rest + cost.work_ms;
+    o.critical_path_ms = rest + cost.critical_path_ms;
+  });
+
+  NewtonSubstructuredReport report;
+  for (const IslandOutcome& o : outcome) {
+    add_island_result(o.newton, report.solve);
+    report.parts += o.parts;
+    report.interface_rows += o.interface_rows;
+    report.interface_bodies += o.interface_bodies;
+    report.parts_refactored += o.parts_refactored;
+    report.work_ms += o.work_ms;
+    report.critical_path_ms = std::max(report.critical_path_ms, o.critical_path_ms);
+  }
+  return report;
+}
+
+}  // namespace rbpart

@@ -1,0 +1,71 @@
+#include "solve/pattern_factor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rbpart {
+
+void PatternFactor::assign_dense(int n) {
+  n_ = n;
+  dense_ = true;
+  dense_values_.setZero(n, n);
+}
+
+void PatternFactor::assign_sparse(int n, std::vector<int> colptr, std::vector<int> rowind) {
+  n_ = n;
+  dense_ = false;
+  colptr_ = std::move(colptr);
+  rowind_ = std::move(rowind);
+  values_.assign(rowind_.size(), 0.0);
+  cholmod_ready_ = klu_ready_ = false;
+}
+
+void PatternFactor::set_zero() {
+  if (dense_) dense_values_.setZero();
+  else std::fill(values_.begin(), values_.end(), 0.0);
+}
+
+bool PatternFactor::factor(bool symmetric) {
+  lu_ = !symmetric;
+  if (dense_) {
+    if (!lu_) {
+      llt_.compute(dense_values_);
+      if (llt_.info() == Eigen::Success) return true;
+      lu_ = true;
+    }
+    plu_.compute(dense_values_);
+    const double pivot = plu_.matrixLU().diagonal().cwiseAbs().minCoeff();
+    return std::isfinite(pivot) && pivot > 0;
+  }
+  const CscView view{n_, colptr_.data(), rowind_.data(), values_.data()};
+  if (!lu_) {
+    if (!cholmod_ready_) cholmod_.analyze(view);
+    cholmod_ready_ = true;
+    if (cholmod_.factorize()) return true;
+    lu_ = true;
+  }
+  if (!klu_ready_) klu_.analyze(view);
+  klu_ready_ = true;
+  return klu_.factorize();
+}
+
+void PatternFactor::solve(double* x, int columns) {
+  if (dense_) {
+    // PartialPivLU's solve permutes and substitutes in place when its result aliases its argument.
+    const auto dense_solve = [&](auto&& b) {
+      if (lu_) b = plu_.solve(b);
+      else llt_.solveInPlace(b);
+    };
+    // One column through Eigen's vector kernels, as a plain dense solve: the blocked matrix kernels
+    // round differently, and Newton's path can turn on round-off (resting stacks).
+    if (columns == 1) dense_solve(Eigen::Map<Eigen::VectorXd>(x, n_));
+    else dense_solve(Eigen::Map<Eigen::MatrixXd>(x, n_, columns));
+    return;
+  }
+  for (int c = 0; c < columns; ++c) {
+    if (lu_) klu_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
+    else cholmod_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
+  }
+}
+
+}  // namespace rbpart

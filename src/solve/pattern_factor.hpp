@@ -1,0 +1,51 @@
+#pragma once
+// A square matrix of fixed pattern, factored as often as its values change: the body-space system
+// N of an island or of a part, and the substructured backend's interface Schur complement S
+// (DESIGN.md §3, §7). A small matrix is held dense (Eigen, column-major); a larger one in
+// compressed columns with both triangles stored, for CHOLMOD (which reads the lower one) or KLU
+// (both), each analysed once per pattern (sparse_factor.hpp). A matrix its caller calls symmetric is
+// factored by Cholesky, and by LU if Cholesky finds it not numerically positive definite; any other
+// by LU with partial pivoting.
+#include "solve/sparse_factor.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include <vector>
+
+namespace rbpart {
+
+class PatternFactor {
+ public:
+  void assign_dense(int n);
+  // The pattern: colptr[n + 1], rowind sorted within each column, both triangles.
+  void assign_sparse(int n, std::vector<int> colptr, std::vector<int> rowind);
+
+  int size() const { return n_; }
+  bool dense() const { return dense_; }
+  // Column c's entries in values() start here; a dense column holds every row, in order.
+  int column_start(int c) const { return dense_ ? n_ * c : colptr_[c]; }
+  const std::vector<int>& rowind() const { return rowind_; }
+  double* values() { return dense_ ? dense_values_.data() : values_.data(); }
+  void set_zero();
+
+  // Factors the current values; false if numerically singular.
+  bool factor(bool symmetric);
+  // x <- A^-1 x for `columns` vectors of size() entries stored one after another.
+  void solve(double* x, int columns = 1);
+
+ private:
+  int n_ = 0;
+  bool dense_ = true, lu_ = false;
+  std::vector<int> colptr_, rowind_;
+  std::vector<double> values_;
+  bool cholmod_ready_ = false, klu_ready_ = false;
+  CholmodFactor cholmod_;
+  KluFactor klu_;
+  Eigen::MatrixXd dense_values_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> plu_;
+};
+
+}  // namespace rbpart
