@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
@@ -15,6 +16,7 @@
 #include "io/atomic_file.hpp"
 #include "scene/limits.hpp"
 #include "io/recording.hpp"
+#include "io/scene_json.hpp"
 #include "io/state_json.hpp"
 #include "io/stats_csv.hpp"
 #include "io/text_format.hpp"
@@ -33,7 +35,7 @@ struct Options {
   std::string solver = "direct";
   SolverParams solver_params;
   StepParams step_params;
-  std::string stats_path, state_path;
+  std::string stats_path, state_path, initial_state_path;
   std::string record_path, record_partitioners;
   bool quiet = false;
   PartitionOptions partition;
@@ -49,7 +51,6 @@ int run_simulate(const Options& o) {
   const PartitionParams partition_params = rbpart::cli::partition_params(o.partition);
   SceneDef scene = resolve_scene(o.scene, o.sets);
   if (o.dt > 0) scene.dt = o.dt;
-  const int steps = o.steps >= 0 ? o.steps : scene.steps;
   SolverParams solver_params = o.solver_params;
   solver_params.kind = o.solver == "pgs"             ? SolverKind::Pgs
                        : o.solver == "substructured" ? SolverKind::Substructured
@@ -57,9 +58,23 @@ int run_simulate(const Options& o) {
                                                      : SolverKind::Direct;
 
   World world(scene, o.step_params, solver_params, partition_params);
+  // A resumed run continues the step numbers and, by default, runs the scene's steps left.
+  int steps = o.steps;
+  if (!o.initial_state_path.empty()) {
+    const SceneState initial = load_state_file(o.initial_state_path, world.scene());
+    try {
+      world.restart(initial.time, initial.bodies);
+    } catch (const std::invalid_argument& e) {  // what the file's checks leave: a time too long for dt
+      throw InputError(o.initial_state_path + ": " + e.what());
+    }
+  }
+  if (steps < 0) steps = std::max(scene.steps - world.step_count(), 0);
   // Outputs are opened before the run so a bad path fails fast, and committed only at the end.
   ParamList params = run_parameters(o.step_params, solver_params, partition_params);
   params.insert(params.begin(), {{"scene", scene.name}, {"dt", round_trip(scene.dt)}, {"steps", std::to_string(steps)}});
+  if (!o.initial_state_path.empty())
+    params.insert(params.begin() + 3, {{"initial_state", o.initial_state_path},
+                                       {"first_step", std::to_string(world.step_count() + 1)}});
   std::optional<StatsCsvWriter> stats;
   if (!o.stats_path.empty()) {
     stats.emplace(o.stats_path, params);
@@ -83,6 +98,7 @@ int run_simulate(const Options& o) {
   // Ctrl-C or SIGTERM ends the run after the step under way; the steps done are kept (below).
   defer_interrupts(true);
   int done = 0;
+  const int first_step = world.step_count() + 1;
   for (int i = 0; i < steps && !interrupt_signal(); ++i, ++done) {
     const StepStats& s = world.step();
     if (stats) stats->write(s);
@@ -129,7 +145,8 @@ int run_simulate(const Options& o) {
     std::printf("total %.3g s (solve %.3g s); median step %.3f ms (solve %.3f ms)", run_s, solve_total_ms / 1000,
                 median(total_ms), median(solve_ms));
     if (steps > 0)
-      std::printf("; slowest step %d: %.3f ms (solve %.3f ms)", slowest + 1, total_ms[slowest], solve_ms[slowest]);
+      std::printf("; slowest step %d: %.3f ms (solve %.3f ms)", first_step + slowest, total_ms[slowest],
+                  solve_ms[slowest]);
     std::printf("\n");
     if (unsettled_steps > 0)
       std::printf("unsettled steps: %d of %d, the last at step %d\n", unsettled_steps, steps, last_unsettled);
@@ -161,7 +178,9 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--scene", o->scene, "Built-in scene name (see `rbpart scenes`) or scene file (.json)")
       ->required();
   cmd->add_option("--set", o->sets, "Built-in scene parameter key=value (repeatable)");
-  cmd->add_option("--steps", o->steps, "Number of steps (default: the scene's)")->check(at_least(0));
+  cmd->add_option("--steps", o->steps,
+                  "Number of steps (default: the scene's; from --initial-state, the scene's steps left)")
+      ->check(at_least(0));
   cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(open_closed(0, limits::kMaxDt));
   cmd->add_option("--solver", o->solver,
                   "BLCP solver (substructured needs --partitioner; newton: the one solver under construction)")
@@ -215,6 +234,9 @@ Run add_simulate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--stats", o->stats_path, "Per-step statistics as CSV (its parameters in FILE.json beside it)");
   cmd->add_option("--state", o->state_path, "Final state as JSON");
+  cmd->add_option("--initial-state", o->initial_state_path,
+                  "Continue from a state JSON (what --state writes) of this scene: its time and step numbers "
+                  "go on; the first step is solved cold (no warm start)");
   CLI::Option* record = cmd->add_option("--record", o->record_path, "Recording for `rbpart view` (docs/viewer.md)");
   cmd->add_option("--record-partitioners", o->record_partitioners,
                   "Also record these partitions of every step's graph, e.g. mindp,mix+fm,bfs")

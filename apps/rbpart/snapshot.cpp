@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,6 +19,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fcntl.h>
@@ -31,6 +33,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/recording.hpp"
+#include "io/text_format.hpp"
 
 namespace rbpart::cli {
 
@@ -220,6 +223,8 @@ struct Options {
   int step = 0;
   int width = 1600, height = 1000;
   bool graph = false, flat = false, hide_static = false;
+  // The viewer's framing of the dynamic bodies (docs/viewer.md); NaN: the viewer's default.
+  double azimuth = std::nan(""), elevation = std::nan(""), zoom = std::nan("");
 };
 
 int run_snapshot(const Options& o) {
@@ -258,6 +263,8 @@ int run_snapshot(const Options& o) {
   if (o.graph) hash += "&graph=1";
   if (o.flat) hash += "&flat=1";
   if (o.hide_static) hash += "&statics=0";
+  for (const auto& [key, value] : {std::pair{"azimuth", o.azimuth}, {"elevation", o.elevation}, {"zoom", o.zoom}})
+    if (!std::isnan(value)) hash += std::string("&") + key + "=" + round_trip(value);
 
   const std::string log = tmp.path() + "/chromium.log";
   const auto deadline = Clock::now() + std::chrono::seconds(120);
@@ -315,6 +322,18 @@ Run add_snapshot(CLI::App& app) {
   cmd->add_flag("--graph", o->graph, "Draw the constraint graph over the bodies");
   cmd->add_flag("--flat", o->flat, "Unlit colours: every body pixel is exactly its part's palette colour");
   cmd->add_flag("--hide-static", o->hide_static, "Leave out the static bodies (floor, walls)");
+  // The camera looks at the dynamic bodies' bounding box, which fills 90% of the picture at zoom 1.
+  cmd->add_option("--camera-azimuth", o->azimuth,
+                  "Camera direction about z, degrees counter-clockwise from +x (0: from +x, 90: from +y; "
+                  "default -55)")
+      ->check(CLI::Range(-360.0, 360.0));
+  cmd->add_option("--camera-elevation", o->elevation,
+                  "Camera height above the horizon, degrees (90: from straight above; default 25)")
+      ->check(CLI::Range(-90.0, 90.0));
+  cmd->add_option("--zoom", o->zoom,
+                  "Closer (> 1) or farther (< 1) than the default framing, in which the dynamic bodies' "
+                  "bounding box fills 90% of the picture (static ones drawn, not framed)")
+      ->check(positive());
   return [o]() { return run_snapshot(*o); };
 }
 

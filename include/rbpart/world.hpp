@@ -84,6 +84,17 @@ class World {
   // Advances one time step of the scene's dt.
   const StepStats& step();
 
+  // Continues from a state instead of the scene's initial one (`rbpart simulate --initial-state`,
+  // docs/formats.md#state-file): `bodies` in scene order give the dynamic bodies' states (a static
+  // body's entry is not read: it keeps the scene's pose); time() becomes `time`, and step_count()
+  // the number of whole steps of dt in it, round(time / dt), from which the steps' numbers continue.
+  // Before the first step only (std::logic_error after). A state holds no impulses: the first step's
+  // solve starts cold (no contact warm start) and without the joints' geometric stiffness, both of
+  // which the step before would have left. Throws std::invalid_argument for the wrong body count,
+  // a negative or non-finite time, a non-finite value or a quaternion not unit to 1e-6 (one unit to
+  // 1e-12 is kept bit for bit, so that a run resumed from its own state file continues exactly).
+  void restart(double time, const std::vector<BodyState>& bodies);
+
   double time() const;
   int step_count() const;
   const SceneDef& scene() const;

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/text_format.hpp"
 
 namespace rbpart {
 
@@ -39,16 +40,16 @@ class LineReader {
   int integer(const std::string& token, const char* what) const {
     int value = 0;
     const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (ec == std::errc::result_out_of_range) fail(std::string(what) + " '" + token + "' is out of range");
+    if (ec == std::errc::result_out_of_range) fail(std::string(what) + " '" + printable(token) + "' is out of range");
     if (ec != std::errc() || end != token.data() + token.size())
-      fail(std::string(what) + " '" + token + "' is not an integer");
+      fail(std::string(what) + " '" + printable(token) + "' is not an integer");
     return value;
   }
   double real(const std::string& token, const char* what) const {
     double value = 0;
     const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (ec != std::errc() || end != token.data() + token.size())
-      fail(std::string(what) + " '" + token + "' is not a number");
+      fail(std::string(what) + " '" + printable(token) + "' is not a number");
     return value;
   }
 
@@ -167,7 +168,7 @@ MetisGraph parse_metis_graph(std::istream& in, const std::string& name) {
       out.vertex_weights.push_back(w);
     }
     const std::size_t step = edge_weights ? 2 : 1;
-    if ((t.size() - ncon) % step != 0) r.fail("neighbour " + t.back() + " has no edge weight");
+    if ((t.size() - ncon) % step != 0) r.fail("neighbour " + printable(t.back()) + " has no edge weight");
     for (std::size_t k = ncon; k < t.size(); k += step) {
       const int u = r.integer(t[k], "neighbour");
       if (u < 1 || u > n) r.fail("neighbour " + t[k] + " is outside 1.." + std::to_string(n));

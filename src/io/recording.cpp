@@ -496,7 +496,10 @@ Recording parse_recording(const std::string& gzip_bytes, const std::string& name
   }
   std::size_t body_count = 0, channel_count = 0, stat_count = 0;
   try {
-    body_count = rec.meta.at("bodies").get<std::size_t>();
+    // A count: get<std::size_t>() of a negative or fractional number (1e300) converts it unchecked.
+    const nlohmann::json& bodies = rec.meta.at("bodies");
+    if (!bodies.is_number_unsigned()) r.fail("header: bodies is not a count (got " + bodies.dump() + ")");
+    body_count = bodies.get<std::size_t>();
     channel_count = rec.meta.at("channels").size();
     stat_count = rec.meta.at("stats").size();
     for (const auto& c : rec.meta.at("channels")) c.at("name").get<std::string>();

@@ -54,7 +54,7 @@ class StrictDomBuilder {
     Frame& frame = stack_.back();
     if (frame.node->contains(key)) {
       const std::string object = path(false);
-      throw InputError(source_ + ": " + (object.empty() ? key : object + "." + key) + ": duplicate key");
+      throw InputError(source_ + ": " + printable(object.empty() ? key : object + "." + key) + ": duplicate key");
     }
     frame.key = std::move(key);
     return true;
@@ -79,7 +79,7 @@ class StrictDomBuilder {
       if (colon != std::string::npos) reason.erase(0, colon + 2);
     }
     std::replace(reason.begin(), reason.end(), '\n', ' ');
-    throw InputError(source_ + ": invalid JSON at " + where + ": " + reason);
+    throw InputError(source_ + ": invalid JSON at " + where + ": " + printable(reason));
   }
 
  private:
@@ -187,7 +187,7 @@ class SceneReader {
     allow_keys(root, "", {"name", "gravity", "dt", "friction", "steps", "bodies", "joints"}, "scene");
     SceneDef scene;
     if (const Json* v = find(root, "name")) scene.name = string(*v, "name");
-    if (const Json* v = find(root, "gravity")) scene.gravity = vec3(*v, "gravity");
+    if (const Json* v = find(root, "gravity")) scene.gravity = rate(*v, "gravity", "m/s^2");
     if (const Json* v = find(root, "dt")) {
       scene.dt = positive(*v, "dt");
       if (scene.dt > limits::kMaxDt) fail("dt", "must be at most " + round_trip(limits::kMaxDt) + " s" + got(scene.dt));
@@ -210,7 +210,58 @@ class SceneReader {
     return scene;
   }
 
+  // A state file for `scene` (state_json.hpp): every body by name in scene order; a static body
+  // keeps the scene's pose (the engine never moves one), so its entry must give that pose and no
+  // velocity, or the file belongs to another scene.
+  SceneState state(const Json& root, const SceneDef& scene) const {
+    if (!root.is_object()) fail("", "expected a JSON object at the top level (got " + describe(root) + ")");
+    allow_keys(root, "", {"time", "bodies", "params"}, "state");
+    SceneState state;
+    state.time = non_negative(require(root, "", "time"), "time");
+    const Json& bodies = array(require(root, "", "bodies"), "bodies");
+    if (bodies.size() != scene.bodies.size())
+      fail("bodies", "the state has " + std::to_string(bodies.size()) + " bodies, scene " + scene.name + " has " +
+                         std::to_string(scene.bodies.size()));
+    state.bodies.reserve(bodies.size());
+    for (std::size_t i = 0; i < bodies.size(); ++i) state.bodies.push_back(body_state(bodies[i], i, scene.bodies[i]));
+    return state;
+  }
+
  private:
+  BodyState body_state(const Json& value, std::size_t index, const BodyDef& def) const {
+    const std::string path = element("bodies", index);
+    object(value, path);
+    allow_keys(value, path, {"name", "position", "orientation", "velocity", "angular_velocity"}, "body state");
+    const std::string name = string(require(value, path, "name"), member(path, "name"));
+    if (name != def.name)
+      fail(member(path, "name"), "is \"" + name + "\", but the scene's body " + std::to_string(index) + " is \"" +
+                                     def.name + "\"");
+    BodyState s;
+    s.position = vec3(require(value, path, "position"), member(path, "position"));
+    const std::string q_path = member(path, "orientation");
+    const Json& q = require(value, path, "orientation");
+    const double norm = numbers<4>(q, q_path, "[w, x, y, z], an array of 4 numbers").stableNorm();
+    if (!(std::abs(norm - 1) <= kUnitTolerance))
+      fail(q_path, "is not a unit quaternion (norm " + round_trip(norm) + ")");
+    s.orientation = quaternion(q, q_path);
+    s.velocity = rate(require(value, path, "velocity"), member(path, "velocity"), "m/s");
+    s.angular_velocity = rate(require(value, path, "angular_velocity"), member(path, "angular_velocity"), "rad/s");
+    if (def.is_static) {
+      const Quat turn = s.orientation * def.orientation.normalized().conjugate();
+      if ((s.position - def.position).norm() > kStaticPoseTolerance * (1 + def.position.norm()) ||
+          2 * std::asin(std::min(1.0, turn.vec().norm())) > kStaticPoseTolerance)
+        fail(path, "static body " + name + " is not at the scene's pose (a static body never moves)");
+      if (!s.velocity.isZero(0) || !s.angular_velocity.isZero(0))
+        fail(path, "static body " + name + " has a velocity (a static body never moves)");
+    }
+    return s;
+  }
+
+  // A state's quaternion is the engine's, unit to round-off; a hand-written one to a few digits.
+  static constexpr double kUnitTolerance = 1e-6;
+  // Relative: the pose a state file writes for a static body is the scene's to round-off.
+  static constexpr double kStaticPoseTolerance = 1e-9;
+
   BodyDef body(const Json& value, std::size_t index) const {
     const std::string path = element("bodies", index);
     object(value, path);
@@ -234,9 +285,9 @@ class SceneReader {
     if (const Json* v = find(value, "position")) body.position = vec3(*v, member(path, "position"));
     if (const Json* v = find(value, "orientation"))
       body.orientation = quaternion(*v, member(path, "orientation"));
-    if (const Json* v = find(value, "velocity")) body.velocity = vec3(*v, member(path, "velocity"));
+    if (const Json* v = find(value, "velocity")) body.velocity = rate(*v, member(path, "velocity"), "m/s");
     if (const Json* v = find(value, "angular_velocity"))
-      body.angular_velocity = vec3(*v, member(path, "angular_velocity"));
+      body.angular_velocity = rate(*v, member(path, "angular_velocity"), "rad/s");
     if (const Json* v = find(value, "friction")) body.friction = non_negative(*v, member(path, "friction"));
 
     // What the sizes above cannot show (a flat or too small convex hull) is found where the engine
@@ -354,8 +405,9 @@ class SceneReader {
 
   // --- primitives ------------------------------------------------------------------------------
 
+  // Keys and strings of the file may hold any byte ("\u0000" too): printable() keeps the message whole.
   [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-    throw InputError(source_ + ": " + (path.empty() ? "" : path + ": ") + problem);
+    throw InputError(source_ + ": " + printable((path.empty() ? "" : path + ": ") + problem));
   }
 
   // Strict keys: a typo ("raduis") must not silently fall back to a default.
@@ -428,6 +480,14 @@ class SceneReader {
   Vec3 vec3(const Json& value, const std::string& path) const {
     return numbers<3>(value, path, "[x, y, z], an array of 3 numbers");
   }
+  // A vector of rates (gravity, velocities) whose components lie within limits::kMaxRate.
+  Vec3 rate(const Json& value, const std::string& path, const char* unit) const {
+    const Vec3 v = vec3(value, path);
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(v[k]) > limits::kMaxRate)
+        fail(element(path, k), "must lie within +-" + round_trip(limits::kMaxRate) + " " + unit + got(v[k]));
+    return v;
+  }
   // [w, x, y, z], normalised. One that is already unit to 1e-12 is kept bit for bit: renormalising
   // a unit quaternion can change its last bits, and an exported scene must load back unchanged.
   Quat quaternion(const Json& value, const std::string& path) const {
@@ -487,13 +547,15 @@ const char* joint_type_name(JointType type) {
 
 }  // namespace
 
-SceneDef parse_scene(const std::string& text, const std::string& source_name) {
+namespace {
+
+Json parse_strictly(const std::string& text, const std::string& source_name) {
   StrictDomBuilder builder(text, source_name);
   Json::sax_parse(text, &builder);
-  return SceneReader(source_name).scene(builder.take());
+  return builder.take();
 }
 
-SceneDef load_scene_file(const std::string& path) {
+std::string read_input(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) throw InputError(path + ": cannot read: " + std::generic_category().message(errno));
   std::string text;
@@ -503,7 +565,23 @@ SceneDef load_scene_file(const std::string& path) {
   const int err = std::ferror(file) ? errno : 0;
   std::fclose(file);
   if (err) throw InputError(path + ": cannot read: " + std::generic_category().message(err));
-  return parse_scene(text, path);
+  return text;
+}
+
+}  // namespace
+
+SceneDef parse_scene(const std::string& text, const std::string& source_name) {
+  return SceneReader(source_name).scene(parse_strictly(text, source_name));
+}
+
+SceneDef load_scene_file(const std::string& path) { return parse_scene(read_input(path), path); }
+
+SceneState parse_state(const std::string& text, const std::string& source_name, const SceneDef& scene) {
+  return SceneReader(source_name).state(parse_strictly(text, source_name), scene);
+}
+
+SceneState load_state_file(const std::string& path, const SceneDef& scene) {
+  return parse_state(read_input(path), path, scene);
 }
 
 std::string scene_to_json(const SceneDef& scene) {

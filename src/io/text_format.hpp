@@ -11,6 +11,10 @@ namespace rbpart {
 // "1e-06", "-0", "inf".
 std::string round_trip(double value);
 
+// Text from an input file as an error message quotes it: control bytes as \xNN, so that a binary
+// file's NUL does not cut the message short and its other control bytes do not reach the terminal.
+std::string printable(const std::string& text);
+
 // Indented JSON that stays readable for geometry: arrays of scalars (vectors, quaternions) and
 // small flat objects on one line, everything else one member per line. Numbers round-trip.
 std::string pretty_json(const nlohmann::ordered_json& value);

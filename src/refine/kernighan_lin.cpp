@@ -176,7 +176,7 @@ class KernighanLin {
         const WeightSum bound = x->d + y->d;
         // A tie in gain may still win on node indices, so only a strictly lower bound stops.
         if (bound <= 0 || (found && bound < best.gain)) break;
-        const GainKey key{bound - 2 * s_->edge_weight(x->node, y->node), std::min(x->node, y->node),
+        const GainKey key{bound - 2 * WeightSum{s_->edge_weight(x->node, y->node)}, std::min(x->node, y->node),
                           std::max(x->node, y->node)};
         if (key.gain <= 0 || (found && !precedes(key, best))) continue;
         if (!s_->swap_keeps_connected(pair.a, x->node, y->node) || !s_->swap_keeps_connected(pair.b, y->node, x->node))

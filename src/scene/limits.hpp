@@ -10,5 +10,8 @@ constexpr double kMinMass = 1e-9, kMaxMass = 1e12;  // kg, of a dynamic body
 constexpr double kMinLength = 1e-6;                 // m: shape sizes, a hull's extent
 constexpr double kMaxLength = 1e4;                  // m: shape sizes and vertex coordinates
 constexpr int kMaxCount = 10000;                    // bodies one scene parameter may ask for
+// Of a scene file's gravity (m/s^2) and a body's starting velocity (m/s) and angular velocity
+// (rad/s), per component: at 1e300 the first step's kinetic energy overflowed (an internal error).
+constexpr double kMaxRate = 1e6;
 
 }  // namespace rbpart::limits

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -58,6 +59,8 @@ struct World::Impl {
   Partition partition_;
   StepStats stats;
   int steps = 0;
+  // time() - steps dt: 0 unless a restart's time is not a whole number of steps (restart).
+  double time_offset = 0;
   ProblemObserver observer;  // sees each step's problem before the solve (set_problem_observer)
   // Forces and torques for the next step (World::apply_force), per body; `forced` while any is set.
   std::vector<Vec3> force, torque;
@@ -266,6 +269,35 @@ struct World::Impl {
     }
   }
 
+  void restart(double time, const std::vector<BodyState>& states) {
+    if (stats.step > 0) throw std::logic_error("World::restart after the first step");
+    if (states.size() != scene.bodies.size())
+      throw std::invalid_argument("World::restart: " + std::to_string(states.size()) + " body states for " +
+                                  std::to_string(scene.bodies.size()) + " bodies");
+    const double whole = std::round(time / scene.dt);
+    if (!(time >= 0) || !(whole <= std::numeric_limits<int>::max()))
+      throw std::invalid_argument("World::restart: time " + std::to_string(time) + " is not in [0, INT_MAX dt]");
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      const BodyState& s = states[i];
+      const double norm = s.orientation.norm();
+      if (!s.position.allFinite() || !s.velocity.allFinite() || !s.angular_velocity.allFinite() ||
+          !(std::abs(norm - 1) <= 1e-6))
+        throw std::invalid_argument("World::restart: body " + std::to_string(i) + " (" + scene.bodies[i].name +
+                                    "): a non-finite value or a quaternion that is not unit");
+    }
+    for (int i = 0; i < bodies.size(); ++i) {
+      if (bodies.is_static[i]) continue;
+      const BodyState& s = states[i];
+      bodies.q[i] = std::abs(s.orientation.norm() - 1) <= 1e-12 ? s.orientation : s.orientation.normalized();
+      bodies.x[i] = s.position + bodies.q[i] * bodies.com_local[i];
+      bodies.v[i] = s.velocity;
+      bodies.w[i] = s.angular_velocity;
+    }
+    update_world_inertia(bodies);
+    steps = static_cast<int>(whole);
+    time_offset = time - steps * scene.dt;
+  }
+
   double kinetic_energy() const {
     double e = 0;
     for (int i = 0; i < bodies.size(); ++i) {
@@ -331,7 +363,8 @@ World::World(SceneDef scene, StepParams step_params, SolverParams solver_params,
 World::~World() = default;
 
 const StepStats& World::step() { return impl_->step(); }
-double World::time() const { return impl_->steps * impl_->scene.dt; }
+void World::restart(double time, const std::vector<BodyState>& bodies) { impl_->restart(time, bodies); }
+double World::time() const { return impl_->steps * impl_->scene.dt + impl_->time_offset; }
 int World::step_count() const { return impl_->steps; }
 const SceneDef& World::scene() const { return impl_->scene; }
 const StepParams& World::step_params() const { return impl_->step_params; }

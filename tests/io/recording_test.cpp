@@ -322,7 +322,8 @@ TEST_F(RecordingTest, MalformedRecordingsAreRefusedByName) {
   EXPECT_EQ(error_of(gzip(miscounted)), "f.rbrec: malformed recording: the trailer's frame count does not match");
   // A part id beyond the part count: the last channel's first id (after the frame's edges).
   std::string bad_part = raw;
-  const RecordedFrame& last = parse_recording(good, "f").frames.back();
+  const Recording parsed = parse_recording(good, "f");  // kept: `last` refers into it
+  const RecordedFrame& last = parsed.frames.back();
   const std::size_t channel_bytes = 24 + 4 * last.channels[0].part_of.size() + ((last.edge_u.size() + 7) / 8 + 3) / 4 * 4;
   const std::size_t first_id = raw.size() - 8 - channel_bytes + 24;
   bad_part[first_id] = 100;

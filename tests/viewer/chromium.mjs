@@ -216,6 +216,17 @@ export function decodePng(png) {
   return { width, height, rgba };
 }
 
+// The index in `palette` (0xRRGGBB) of pixel i's colour, each channel within `tolerance`; -1 if none.
+function paletteIndex(rgba, i, palette, tolerance) {
+  for (let k = 0; k < palette.length; ++k) {
+    const c = palette[k];
+    if (Math.abs(rgba[4 * i] - (c >> 16)) <= tolerance && Math.abs(rgba[4 * i + 1] - ((c >> 8) & 255)) <= tolerance &&
+        Math.abs(rgba[4 * i + 2] - (c & 255)) <= tolerance)
+      return k;
+  }
+  return -1;
+}
+
 // Pixels per colour of `palette` (0xRRGGBB), each channel within `tolerance`, inside `region`
 // ({ x, y, width, height }; default the whole image).
 export function paletteCounts(image, palette, tolerance = 3, region = undefined) {
@@ -226,16 +237,22 @@ export function paletteCounts(image, palette, tolerance = 3, region = undefined)
   const y0 = Math.max(0, Math.floor(r.y)), y1 = Math.min(image.height, r.y + r.height);
   for (let y = y0; y < y1; ++y) {
     for (let x = x0; x < x1; ++x) {
-      const i = 4 * (y * width + x);
-      for (let k = 0; k < palette.length; ++k) {
-        const c = palette[k];
-        if (Math.abs(rgba[i] - (c >> 16)) <= tolerance && Math.abs(rgba[i + 1] - ((c >> 8) & 255)) <= tolerance &&
-            Math.abs(rgba[i + 2] - (c & 255)) <= tolerance) {
-          counts[k]++;
-          break;
-        }
-      }
+      const k = paletteIndex(rgba, y * width + x, palette, tolerance);
+      if (k >= 0) counts[k]++;
     }
   }
   return counts;
+}
+
+// The bounding box of the pixels of any `palette` colour as fractions of the image: { width, height }
+// (0 when there is none).
+export function paletteExtent(image, palette, tolerance = 3) {
+  let x0 = Infinity, x1 = -1, y0 = Infinity, y1 = -1;
+  for (let y = 0; y < image.height; ++y) {
+    for (let x = 0; x < image.width; ++x) {
+      if (paletteIndex(image.rgba, y * image.width + x, palette, tolerance) < 0) continue;
+      x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
+    }
+  }
+  return x1 < 0 ? { width: 0, height: 0 } : { width: (x1 - x0 + 1) / image.width, height: (y1 - y0 + 1) / image.height };
 }

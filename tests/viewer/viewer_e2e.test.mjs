@@ -1,7 +1,8 @@
 // End-to-end test of the web viewer (docs/viewer.md) in headless Chromium: a short recorded run is
 // served by `rbpart view` and played (the step counter advances), part colours reach the screen
 // (pixels of a screenshot sampled against the palette), malformed recordings show an error message
-// instead of a blank page, and `rbpart snapshot` writes the picture of a step.
+// instead of a blank page, and `rbpart snapshot` writes the picture of a step, framed on the
+// dynamic bodies from the direction its camera options give.
 // Run by CTest (CMakeLists.txt) with RBPART_CLI and RBPART_VIEWER_DIR set.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -9,7 +10,7 @@ import { spawn, spawnSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { Browser, CHROMIUM, decodePng, paletteCounts } from './chromium.mjs';
+import { Browser, CHROMIUM, decodePng, paletteCounts, paletteExtent } from './chromium.mjs';
 import { PALETTE } from '../../viewer/src/colouring.js';
 
 const CLI = process.env.RBPART_CLI;
@@ -151,4 +152,35 @@ test('rbpart snapshot renders one step to PNG, and refuses bad input', { timeout
   assert.equal(nochromium.status, 2);
   assert.match(nochromium.stderr, /chromium not found/);
   assert.equal(existsSync(join(dir, 'bad.png')), false);
+});
+
+// The Chain Drop's links lie along x (here 20 links of 0.1 m diameter, thick enough to be seen from
+// afar) over a static slab much larger than the chain: framed on everything, the chain was a short
+// line on the slab.
+test('rbpart snapshot frames the dynamic bodies, seen from its camera options', { timeout: 90000 }, () => {
+  const run = rbpart(['simulate', '--scene', 'chain_drop', '--set', 'links=20', '--set', 'radius=0.05', '--steps', '2',
+    '--record', 'chain.rbrec', '-q']);
+  assert.equal(run.status, 0, run.stderr);
+  const extent = (name, camera) => {
+    const shot = rbpart(['snapshot', 'chain.rbrec', '--step', '2', '--out', name, '--width', '400', '--height', '250',
+      '--flat', ...camera]);
+    assert.equal(shot.status, 0, shot.stderr);
+    return paletteExtent(decodePng(readFileSync(join(dir, name))), PALETTE);
+  };
+  // The default three-quarter view, the slab drawn: the chain's box fills 90% of the view, and the
+  // chain, its diagonal, spans most of the picture's width.
+  const framed = extent('default.png', []);
+  assert.ok(framed.width > 0.6, `the chain spans most of the width: ${JSON.stringify(framed)}`);
+  // From +y, level: the chain runs across the picture, thin; zoom 0.5 doubles the distance, which
+  // halves its projected length (0.9 of the width at zoom 1).
+  const side = extent('side.png', ['--camera-azimuth', '90', '--camera-elevation', '0', '--zoom', '0.5']);
+  assert.ok(side.width > 0.38 && side.width < 0.5, `half of 0.9 of the width: ${JSON.stringify(side)}`);
+  assert.ok(side.height < 0.05, `seen level from the side, the chain is a thin line: ${JSON.stringify(side)}`);
+  // From +x and above, along the chain: it runs up the picture, narrow.
+  const along = extent('along.png', ['--camera-azimuth', '0', '--camera-elevation', '30']);
+  assert.ok(along.width < 0.1 && along.height > 0.5, `the chain runs up the picture: ${JSON.stringify(along)}`);
+
+  const bad = rbpart(['snapshot', 'chain.rbrec', '--step', '2', '--out', 'bad.png', '--zoom', '0']);
+  assert.equal(bad.status, 2);
+  assert.match(bad.stderr, /--zoom/);
 });

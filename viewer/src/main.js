@@ -1,6 +1,7 @@
 // rbpart viewer: opens a recording (embedded by `rbpart view --html`, served by `rbpart view`, or
 // chosen/dropped by the user), then plays it. Options in the URL hash (docs/viewer.md):
 //   src=URL  name=TEXT  step=K  channel=NAME  graph=1  statics=0  flat=1  speed=X  play=0|1  snapshot=1
+//   azimuth=DEG  elevation=DEG  zoom=F (the first view of the dynamic bodies)
 import { loadRecording } from './recording.js';
 import { colourChannel, PALETTE } from './colouring.js';
 import { SceneView } from './scene.js';
@@ -37,7 +38,7 @@ class Player {
     const canvas = document.createElement('canvas');
     canvas.id = 'view';
     $('view').replaceWith(canvas);
-    this.view = new SceneView(canvas, recording, { flat: options.get('flat') === '1' });
+    this.view = new SceneView(canvas, recording, { flat: options.get('flat') === '1', camera: cameraOptions() });
 
     const meta = recording.meta;
     $('source').textContent = `${name} · scene ${meta.scene} · ${recording.bodyOf.length} bodies · ${recording.frames.length} steps`;
@@ -164,6 +165,19 @@ async function open(bytes, name) {
   player.setPlaying(!snapshot && options.get('play') !== '0');
   document.title = `rbpart viewer: ${recording.meta.scene}`;
   if (snapshot) document.title = 'rbpart viewer: ready';
+}
+
+// The URL's camera: azimuth and elevation in degrees, zoom a positive factor (2: twice as close).
+function cameraOptions() {
+  const camera = {};
+  for (const [key, valid] of [['azimuth', Number.isFinite], ['elevation', (x) => Math.abs(x) <= 90],
+    ['zoom', (x) => x > 0 && Number.isFinite(x)]]) {
+    if (!options.has(key)) continue;
+    const value = Number(options.get(key));
+    if (options.get(key).trim() === '' || !valid(value)) throw new Error(`bad ${key}=${options.get(key)}`);
+    camera[key] = value;
+  }
+  return camera;
 }
 
 // The URL's step, channel, graph and speed options, for links and `rbpart snapshot`.

@@ -54,10 +54,24 @@ function setPose(object, p, offset = 0) {
   object.quaternion.set(p[offset + 4], p[offset + 5], p[offset + 6], p[offset + 3]); // stored w x y z
 }
 
+// The three-quarter view from the front right and above that the viewer opens with (degrees).
+export const DEFAULT_CAMERA = { azimuth: -55, elevation: 25 };
+
+// Unit vector from the target to the camera: `azimuth` counter-clockwise from +x about z (0: the
+// camera on the +x side, 90: on the +y side), `elevation` above the xy plane. A view straight
+// down or up is tilted by 0.01 degrees, as the camera's up vector is z.
+export function cameraDirection(azimuth, elevation) {
+  const a = THREE.MathUtils.degToRad(azimuth);
+  const e = THREE.MathUtils.degToRad(Math.max(-89.99, Math.min(89.99, elevation)));
+  return new THREE.Vector3(Math.cos(e) * Math.cos(a), Math.cos(e) * Math.sin(a), Math.sin(e));
+}
+
 export class SceneView {
   // `flat`: unlit colours (exact palette pixels; for figures and the viewer's own test).
-  constructor(canvas, recording, { flat = false } = {}) {
+  // `camera`: fitCamera's options (azimuth, elevation, zoom), applied when the view is first sized.
+  constructor(canvas, recording, { flat = false, camera = {} } = {}) {
     this.recording = recording;
+    this.cameraOptions = camera;
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: !flat, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.scene = new THREE.Scene();
@@ -139,16 +153,23 @@ export class SceneView {
     this.scene.add(grid);
   }
 
-  // A three-quarter view of the bodies as they are now (the first frame shown): the camera moves
-  // along the view direction until the bounding box's corners fill 90% of the view (the bounding
-  // sphere alone would leave the scene small); repeated because projection is not linear.
-  fitCamera() {
-    const box = new THREE.Box3();
-    for (const mesh of this.meshes) if (mesh.visible) box.expandByObject(mesh);
+  // The camera on the dynamic bodies as they are now (the first frame shown), with the static ones
+  // still drawn: a floor slab much larger than the bodies would otherwise shrink them to a line.
+  // `azimuth` (degrees counter-clockwise from +x, about z) and `elevation` (above the horizon) give
+  // the direction from the bodies to the camera; the camera moves along it until the bounding box's
+  // corners fill 90% of the view (the bounding sphere alone would leave the bodies small), repeated
+  // because projection is not linear; `zoom` then divides that distance.
+  fitCamera({ azimuth = DEFAULT_CAMERA.azimuth, elevation = DEFAULT_CAMERA.elevation, zoom = 1 } = {}) {
+    const dynamic = new THREE.Box3(), all = new THREE.Box3();
+    this.recording.bodies.forEach((body, i) => {
+      if (!body.isStatic) dynamic.expandByObject(this.meshes[i]);
+      if (this.meshes[i].visible) all.expandByObject(this.meshes[i]);
+    });
+    const box = dynamic.isEmpty() ? all.clone() : dynamic;
     if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1));
     const centre = box.getCenter(new THREE.Vector3());
     const diagonal = Math.max(box.getSize(new THREE.Vector3()).length(), 0.1);
-    const direction = new THREE.Vector3(0.55, -0.75, 0.45).normalize();
+    const direction = cameraDirection(azimuth, elevation);
     const corners = [];
     for (let i = 0; i < 8; ++i)
       corners.push(new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
@@ -169,7 +190,15 @@ export class SceneView {
       }
       distance *= extent / 0.9; // projected size ~ 1/distance
     }
+    // Seen along a long body (a chain end-on), its near end alone would fill the view: the camera
+    // stays outside the box's bounding sphere.
+    distance = Math.max(distance, 0.6 * diagonal) / zoom;
     this.camera.position.copy(centre).addScaledVector(direction, distance);
+    // The static bodies stay in view as far as they reach behind the dynamic ones.
+    const reach = all.isEmpty() ? 0 : all.getSize(new THREE.Vector3()).length();
+    this.camera.near = Math.min(diagonal / 200, distance / 10);
+    this.camera.far = Math.max(diagonal * 50, distance + reach);
+    this.camera.updateProjectionMatrix();
     this.controls.update();
   }
 
@@ -177,7 +206,7 @@ export class SceneView {
     this.renderer.setSize(width, height, false);
     this.camera.aspect = width / Math.max(height, 1);
     this.camera.updateProjectionMatrix();
-    if (!this.fitted) this.fitCamera();
+    if (!this.fitted) this.fitCamera(this.cameraOptions);
     this.fitted = true;
     this.interfaceMaterial.resolution.set(width, height);
     this.render();
