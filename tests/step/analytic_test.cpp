@@ -1,11 +1,14 @@
 // Whole-step tests against closed-form mechanics: friction on a slope, a pendulum's period,
-// resting stacks (also at 1000:1 mass ratio) and a heavy-ended chain's joints.
+// resting stacks (also at 1000:1 mass ratio) and a heavy-ended chain's joints, for the direct
+// solver and the Newton solver. The Newton solver must also settle every step (residual at most
+// 1e-9, the one criterion) within its budget of factorisations per island.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 
 #include <cmath>
 
 #include "scene/bodies.hpp"
+#include "solve/newton.hpp"
 #include "scenes/scenes.hpp"
 #include "step/world_internals.hpp"
 #include "support/joint_gap.hpp"
@@ -19,30 +22,48 @@ SceneDef scene(const std::string& name, std::vector<std::pair<std::string, std::
   return make_builtin_scene(name, sets);
 }
 
+class Analytic : public ::testing::TestWithParam<SolverKind> {
+ public:
+  World world(const SceneDef& def) const {
+    SolverParams solver;
+    solver.kind = GetParam();
+    return World(def, StepParams{}, solver, PartitionParams{});
+  }
+  // One step; for the Newton solver, checks that it settled within the budget.
+  static const StepStats& step(World& w) {
+    const StepStats& s = w.step();
+    if (w.solver_params().kind == SolverKind::Newton) {
+      EXPECT_LE(s.residual, kSettledResidual) << "step " << s.step;
+      EXPECT_LE(s.factorizations, s.islands * w.solver_params().max_factorizations) << "step " << s.step;
+    }
+    return s;
+  }
+};
+
 // Position of the block along the downhill direction of the slope scene.
 double downhill(const World& w, double theta) {
   const Vec3 d(std::cos(theta), 0, -std::sin(theta));
   return world_bodies(w).x[1].dot(d);
 }
 
-TEST(Slope, BlockBelowFrictionAngleStaysPut) {
+TEST_P(Analytic, SlopeBlockBelowFrictionAngleStaysPut) {
   // tan(20 deg) = 0.36 < mu = 0.5.
-  World w(scene("slope", {{"angle", "20"}, {"friction", "0.5"}}));
+  World w = world(scene("slope", {{"angle", "20"}, {"friction", "0.5"}}));
   const Vec3 start = world_bodies(w).x[1];
-  for (int i = 0; i < 120; ++i) w.step();  // 2 s
+  for (int i = 0; i < 120; ++i) step(w);  // 2 s
   EXPECT_LT((world_bodies(w).x[1] - start).norm(), 1e-3);
 }
 
-TEST(Slope, BlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
+TEST_P(Analytic, SlopeBlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
   const double theta = 35 * M_PI / 180, mu = 0.3;
-  World w(scene("slope", {{"angle", "35"}, {"friction", "0.3"}}));
+  World w = world(scene("slope", {{"angle", "35"}, {"friction", "0.3"}}));
   const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
-  for (int i = 0; i < 60; ++i) w.step();
+  for (int i = 0; i < 60; ++i) step(w);
   const double s1 = downhill(w, theta);
   const double t1 = w.time();
-  for (int i = 0; i < 60; ++i) w.step();
+  for (int i = 0; i < 60; ++i) step(w);
   const double s2 = downhill(w, theta);
-  for (int i = 0; i < 60; ++i) w.step();
+  for (int i = 0; i < 60; ++i) step(w);
   const double s3 = downhill(w, theta);
   const double T = w.time() - t1;
   // Second difference of equally spaced positions: a = (s3 - 2 s2 + s1) / (T/2)^2.
@@ -50,9 +71,9 @@ TEST(Slope, BlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
   EXPECT_NEAR(a, expected, 0.02 * expected);
 }
 
-TEST(Pendulum, SmallAnglePeriod) {
+TEST_P(Analytic, PendulumSmallAnglePeriod) {
   const double L = 1, r = 0.05, theta0 = 5 * M_PI / 180;
-  World w(scene("pendulum", {{"length", "1"}, {"angle", "5"}, {"radius", "0.05"}}));
+  World w = world(scene("pendulum", {{"length", "1"}, {"angle", "5"}, {"radius", "0.05"}}));
   // Physical pendulum (a sphere, not a point): T = 2 pi sqrt(I_pivot / (m g L)), with the first
   // finite-amplitude correction (1 + theta0^2 / 16).
   const double I_pivot = 0.4 * r * r + L * L;
@@ -61,7 +82,7 @@ TEST(Pendulum, SmallAnglePeriod) {
   std::vector<double> crossings;
   double prev = world_bodies(w).x[0].x(), prev_t = 0;
   while (w.time() < 10) {
-    w.step();
+    step(w);
     const double x = world_bodies(w).x[0].x();
     if (prev < 0 && x >= 0) crossings.push_back(prev_t + (w.time() - prev_t) * (-prev) / (x - prev));
     prev = x;
@@ -74,33 +95,37 @@ TEST(Pendulum, SmallAnglePeriod) {
 
 // Runs a stack for 10 s; every box must stay within 2 mm of where it started and no contact may
 // sink deeper than the slop plus 1 mm.
-void expect_stack_rests(const SceneDef& def) {
-  World w(def);
+void expect_stack_rests(World w) {
   const std::vector<Vec3> start = world_bodies(w).x;
   double deepest = 0;
-  while (w.time() < 10 - 1e-9) deepest = std::max(deepest, w.step().max_penetration);
+  while (w.time() < 10 - 1e-9) deepest = std::max(deepest, Analytic::step(w).max_penetration);
   for (int i = 0; i < world_bodies(w).size(); ++i)
     EXPECT_LT((world_bodies(w).x[i] - start[i]).norm(), 2e-3) << "box " << i;
   EXPECT_LE(deepest, w.step_params().slop + 1e-3);
 }
 
-TEST(Stack, TenBoxesRest) { expect_stack_rests(scene("box_stack", {{"boxes", "10"}})); }
+TEST_P(Analytic, StackOfTenBoxesRests) { expect_stack_rests(world(scene("box_stack", {{"boxes", "10"}}))); }
 
-TEST(Stack, AlternatingLightAndThousandTimesHeavierRests) {
-  expect_stack_rests(scene("box_stack", {{"boxes", "10"}, {"mass_even", "1"}, {"mass_odd", "1000"}}));
+TEST_P(Analytic, StackOfLightAndThousandTimesHeavierBoxesRests) {
+  expect_stack_rests(world(scene("box_stack", {{"boxes", "10"}, {"mass_even", "1"}, {"mass_odd", "1000"}})));
 }
 
-TEST(Chain, HeavyEndedChainJointsStayTogether) {
+TEST_P(Analytic, HeavyEndedChainJointsStayTogether) {
   const SceneDef def = scene("hanging_chain", {{"links", "20"}, {"end_ratio", "100"}});
-  World w(def);
+  World w = world(def);
   const test::JointGapMeter gaps(w);
   double worst = 0;
   for (int i = 0; i < 600; ++i) {
-    w.step();
+    step(w);
     worst = std::max(worst, gaps.max_gap(w));
   }
   EXPECT_LT(worst, 1e-3);
 }
+
+INSTANTIATE_TEST_SUITE_P(Solvers, Analytic, ::testing::Values(SolverKind::Direct, SolverKind::Newton),
+                         [](const ::testing::TestParamInfo<SolverKind>& info) {
+                           return info.param == SolverKind::Direct ? "Direct" : "Newton";
+                         });
 
 }  // namespace
 }  // namespace rbpart
