@@ -53,6 +53,8 @@ bool PatternFactor::factor(bool symmetric) {
 }
 
 void PatternFactor::solve(double* x, int columns) {
+  // Nothing to solve; Eigen's triangular solve would bind a reference to an empty map's null data.
+  if (columns == 0) return;
   if (dense_) {
     Eigen::MatrixXd rhs;
     if constexpr (kValidate) rhs = Eigen::Map<const Eigen::MatrixXd>(x, n_, columns);
