@@ -1,3 +1,4 @@
+#include "core/validate.hpp"
 #include "partition/partition.hpp"
 
 namespace rbpart {
@@ -24,6 +25,7 @@ void partition_by_islands(const ConstraintGraph& graph, const Islands& islands, 
       partition.part_of[v] = part_of_island[i];
     }
   }
+  RBPART_CHECK(check_island_partition(graph, partition));
 }
 
 }  // namespace rbpart

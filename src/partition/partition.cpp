@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "core/validate.hpp"
 #include "partition/grow.hpp"
 
 namespace rbpart {
@@ -101,6 +102,7 @@ void partition_graph(const ConstraintGraph& graph, const PartitionParams& params
     }
   }
   partition.part_count = s.part_count;
+  RBPART_CHECK(check_partition(graph, partition, params.nmax));
 }
 
 PartitionQuality partition_and_refine(const ConstraintGraph& graph, const PartitionParams& params,

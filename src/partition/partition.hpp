@@ -58,6 +58,9 @@ inline int nmax_for_parts(int nodes, int parts) { return (nodes + parts - 1) / p
 // Checks the properties above (cover, disjoint ids in range, connected parts, at most nmax nodes,
 // no empty part); returns "" or the first violation, in words.
 std::string check_partition(const ConstraintGraph& graph, const Partition& partition, int nmax);
+// Checks partition_by_islands' promise: every part is one whole island (connected, no edge between
+// two parts, any size), numbered in increasing order of its lowest node; "" or the first violation.
+std::string check_island_partition(const ConstraintGraph& graph, const Partition& partition);
 
 // Names as the CLI spells them: bfs mindp maxdp mr mix metis (none); none kl fm fm-rollback.
 const char* partitioner_name(PartitionerKind kind);

@@ -1,5 +1,5 @@
-// The quality report of a partition (issue #4, docs/design.md#contracts columns) and the check of its
-// properties (docs/design.md#partition), both O(n + m).
+// The quality report of a partition (issue #4, docs/design.md#contracts columns) and the checks of its
+// properties (docs/design.md#partition; partition_by_islands' parts), all O(n + m).
 #include <algorithm>
 #include <string>
 
@@ -73,6 +73,25 @@ std::string check_partition(const ConstraintGraph& graph, const Partition& parti
       return "part " + std::to_string(p) + " is not connected: node " + std::to_string(missed) +
              " is not reached from node " + std::to_string(first[p]);
     }
+  }
+  return "";
+}
+
+std::string check_island_partition(const ConstraintGraph& graph, const Partition& partition) {
+  const std::string problem = check_partition(graph, partition, std::max(graph.node_count(), 1));
+  if (!problem.empty()) return problem;
+  int parts_met = 0;
+  for (int v = 0; v < graph.node_count(); ++v) {
+    const int p = partition.part_of[v];
+    if (p > parts_met)
+      return "node " + std::to_string(v) + " is the lowest of part " + std::to_string(p) + ", met before part " +
+             std::to_string(parts_met);
+    parts_met += p == parts_met;
+    for (int k = graph.offset[v]; k < graph.offset[v + 1]; ++k)
+      if (partition.part_of[graph.adjacency[k]] != p)
+        return "edge " + std::to_string(v) + "-" + std::to_string(graph.adjacency[k]) + " joins parts " +
+               std::to_string(p) + " and " + std::to_string(partition.part_of[graph.adjacency[k]]) +
+               " of one island";
   }
   return "";
 }

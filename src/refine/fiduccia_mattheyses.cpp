@@ -40,10 +40,10 @@ class FiducciaMattheyses {
     parked_.assign(n_, 0);
     swept_.assign(n_, 0);
     for (int v = 0; v < n_; ++v) update(v);
-    if (s_->debug()) check_gains("FM start");
+    if (s_->check_passes()) check_gains("FM start");
     if (!rollback_) {
       while (!heap_.empty() && heap_.key(heap_.top()).gain > 0) step();
-      if (s_->debug()) check_gains("FM end");
+      if (s_->check_passes()) check_gains("FM end");
       return;
     }
     while (pass()) {
@@ -69,14 +69,14 @@ class FiducciaMattheyses {
       if (rollback_) parked_list_.push_back(v);
       return;
     }
-    if (s_->debug() && !refine_reference::can_leave(s_->graph(), s_->partition().part_of, v))
+    if (s_->check_moves() && !refine_reference::can_leave(s_->graph(), s_->partition().part_of, v))
       throw std::logic_error("FM: node " + std::to_string(v) + " moved although it disconnects its part");
     if (rollback_) {
       locked_[v] = 1;
       log_.push_back({v, s_->part(v)});
     }
     apply(v, target_[v]);
-    if (s_->debug()) {
+    if (s_->check_moves()) {
       s_->check("FM move");
       check_gains("FM move");
     }
@@ -110,7 +110,7 @@ class FiducciaMattheyses {
     for (std::size_t k = log_.size(); k-- > best_length;) apply(log_[k].node, log_[k].from);
     for (const Step& m : log_) update(m.node);
     for (int v : parked_list_) update(v);
-    if (s_->debug()) {
+    if (s_->check_passes()) {
       if (s_->cut() != best_cut) throw std::logic_error("FM rollback: the cut is not the best prefix's");
       s_->check("FM rollback");
       check_gains("FM rollback");

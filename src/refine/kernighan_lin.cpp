@@ -63,7 +63,7 @@ class KernighanLin {
         if (s_->part(v) < s_->part(u)) pair_id(s_->part(v), s_->part(u));
       });
     for (int r = 0; r < static_cast<int>(pairs_.size()); ++r) search(r);
-    if (s_->debug()) check_swaps("KL start");
+    if (s_->check_passes()) check_swaps("KL start");
 
     while (!heap_.empty()) {
       const int r = heap_.top();
@@ -95,11 +95,12 @@ class KernighanLin {
       std::sort(stale_.begin(), stale_.end());
       stale_.erase(std::unique(stale_.begin(), stale_.end()), stale_.end());
       for (int q : stale_) search(q);
-      if (s_->debug()) {
+      if (s_->check_moves()) {
         s_->check("KL swap");
         check_swaps("KL swap");
       }
     }
+    if (s_->check_passes()) check_swaps("KL end");  // no part pair has a positive legal swap left
   }
 
  private:

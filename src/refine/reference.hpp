@@ -1,9 +1,9 @@
 #pragma once
-// From-scratch recomputations for params.debug_checks (docs/design.md#refine), written apart from the
-// refiners' incremental bookkeeping (no member lists, heaps, caches or articulation points): each
-// gain is summed from a node's edges and each connectivity question answered by a breadth-first
-// search over the whole graph, so a bookkeeping slip shows as a mismatch. O(n) and more per call:
-// for tests and debugging only.
+// From-scratch recomputations for params.debug_checks and validate builds (docs/design.md#refine),
+// written apart from the refiners' incremental bookkeeping (no member lists, heaps, caches or
+// articulation points): each gain is summed from a node's edges and each connectivity question
+// answered by a breadth-first search over the whole graph, so a bookkeeping slip shows as a
+// mismatch. O(n) and more per call: for tests and debugging only.
 #include <map>
 #include <optional>
 #include <utility>

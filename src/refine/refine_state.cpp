@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/validate.hpp"
 #include "refine/reference.hpp"
 
 namespace rbpart {
@@ -17,7 +18,9 @@ void RefineState::reset(const ConstraintGraph& graph, const PartitionParams& par
   partition_ = &partition;
   part_of_ = partition.part_of.data();
   nmax_ = params.nmax;
-  debug_ = params.debug_checks;
+  checks_ = params.debug_checks || (kValidate && n <= kValidateMoveNodes) ? Checks::Moves
+            : kValidate                                                  ? Checks::Passes
+                                                                         : Checks::None;
   size_.assign(parts, 0);
   head_.assign(parts, -1);
   next_.assign(n, -1);
@@ -47,7 +50,7 @@ void RefineState::reset(const ConstraintGraph& graph, const PartitionParams& par
   subtree_size_.assign(n, 1);
   seen_.assign(n, 0);
   stamp_ = 0;
-  if (debug_) check("refine input");
+  if (check_passes()) check("refine input");
 }
 
 const Connections& RefineState::connections(int node) {
@@ -231,21 +234,24 @@ void RefineState::find_articulation_points(int p) {
   articulation_fresh_[p] = 1;
 }
 
-void RefineState::check(const char* where) const {
-  auto fail = [&](const std::string& what) { throw std::logic_error(std::string(where) + ": " + what); };
+std::string RefineState::violation() const {
   const WeightSum cut = refine_reference::edge_cut(*graph_, partition_->part_of);
-  if (cut != cut_) fail("tracked edge cut " + std::to_string(cut_) + ", recomputed " + std::to_string(cut));
+  if (cut != cut_) return "tracked edge cut " + std::to_string(cut_) + ", recomputed " + std::to_string(cut);
   std::vector<int> size(size_.size(), 0);
   for (int p : partition_->part_of) ++size[p];
-  if (size != size_) fail("tracked part sizes differ from the recount");
+  if (size != size_) return "tracked part sizes differ from the recount";
   for (int v = 0; v < graph_->node_count(); ++v) {
     const WeightSum internal = refine_reference::connection(*graph_, partition_->part_of, v, part_of_[v]);
     if (internal_[v] != internal)
-      fail("node " + std::to_string(v) + ": tracked internal constraints " + std::to_string(internal_[v]) +
-           ", recomputed " + std::to_string(internal));
+      return "node " + std::to_string(v) + ": tracked internal constraints " + std::to_string(internal_[v]) +
+             ", recomputed " + std::to_string(internal);
   }
-  const std::string problem = check_partition(*graph_, *partition_, check_nmax_);
-  if (!problem.empty()) fail(problem);
+  return check_partition(*graph_, *partition_, check_nmax_);
+}
+
+void RefineState::check(const char* where) const {
+  const std::string problem = violation();
+  if (!problem.empty()) throw std::logic_error(std::string(where) + ": " + problem);
 }
 
 }  // namespace rbpart

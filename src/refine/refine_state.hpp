@@ -4,6 +4,7 @@
 // disconnected or filled beyond nmax) and the debug checks against from-scratch recomputation.
 #include <rbpart/params.hpp>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -73,10 +74,19 @@ class RefineState {
     for (int k = graph_->offset[node]; k < graph_->offset[node + 1]; ++k) f(graph_->adjacency[k], graph_->weight[k]);
   }
 
-  // params.debug_checks: recomputes the cut from scratch and checks the partition's properties
-  // (docs/design.md#partition, with nmax raised to any part that was already larger); throws std::logic_error
-  // naming `where` on a mismatch.
-  bool debug() const { return debug_; }
+  // When the refiners re-check their bookkeeping against reference.hpp: at the start and end of a
+  // run and of each rollback pass (check_passes), and after every move too (check_moves).
+  // params.debug_checks asks for every move; validate builds (core/validate.hpp) check every move on
+  // graphs of at most kValidateMoveNodes nodes, where the O(n)-and-more recomputations stay cheap,
+  // and the passes on larger ones.
+  static constexpr int kValidateMoveNodes = 100;
+  bool check_passes() const { return checks_ != Checks::None; }
+  bool check_moves() const { return checks_ == Checks::Moves; }
+  // The tracked cut, part sizes and internal constraints against a recount from scratch, and the
+  // partition's properties (docs/design.md#partition, with nmax raised to any part that was already
+  // larger): "" or the first violation.
+  std::string violation() const;
+  // Throws std::logic_error naming `where` on a violation.
   void check(const char* where) const;
 
  private:
@@ -86,7 +96,7 @@ class RefineState {
   Partition* partition_ = nullptr;
   int* part_of_ = nullptr;  // partition_->part_of, whose size the refiners never change
   int nmax_ = 0;
-  bool debug_ = false;
+  enum class Checks : char { None, Passes, Moves } checks_ = Checks::None;
   int check_nmax_ = 0;  // nmax for check_partition: parts given larger than nmax may stay so
   WeightSum cut_ = 0;
   std::vector<int> size_;

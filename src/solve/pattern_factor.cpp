@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/validate.hpp"
+#include "solve/solve_check.hpp"
+
 namespace rbpart {
 
 void PatternFactor::assign_dense(int n) {
@@ -50,7 +53,11 @@ bool PatternFactor::factor(bool symmetric) {
 }
 
 void PatternFactor::solve(double* x, int columns) {
+  // Nothing to solve; Eigen's triangular solve would bind a reference to an empty map's null data.
+  if (columns == 0) return;
   if (dense_) {
+    Eigen::MatrixXd rhs;
+    if constexpr (kValidate) rhs = Eigen::Map<const Eigen::MatrixXd>(x, n_, columns);
     // PartialPivLU's solve permutes and substitutes in place when its result aliases its argument.
     const auto dense_solve = [&](auto&& b) {
       if (lu_) b = plu_.solve(b);
@@ -60,8 +67,10 @@ void PatternFactor::solve(double* x, int columns) {
     // round differently, and Newton's path can turn on round-off (resting stacks).
     if (columns == 1) dense_solve(Eigen::Map<Eigen::VectorXd>(x, n_));
     else dense_solve(Eigen::Map<Eigen::MatrixXd>(x, n_, columns));
+    RBPART_CHECK(solve_violation(dense_values_, Eigen::Map<const Eigen::MatrixXd>(x, n_, columns), rhs));
     return;
   }
+  // CHOLMOD and KLU check their own solves.
   for (int c = 0; c < columns; ++c) {
     if (lu_) klu_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
     else cholmod_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);

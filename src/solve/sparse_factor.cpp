@@ -1,5 +1,6 @@
 #include "solve/sparse_factor.hpp"
 
+#include <Eigen/SparseCore>
 #include <dlfcn.h>
 #include <suitesparse/cholmod.h>
 #include <suitesparse/klu.h>
@@ -8,7 +9,15 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "core/validate.hpp"
+#include "solve/solve_check.hpp"
+
 namespace rbpart {
+
+// The matrix a factorisation was analysed for, as Eigen reads it.
+static Eigen::Map<const Eigen::SparseMatrix<double>> eigen_view(const CscView& a) {
+  return Eigen::Map<const Eigen::SparseMatrix<double>>(a.n, a.n, a.colptr[a.n], a.colptr, a.rowind, a.values);
+}
 
 // Debian's CHOLMOD is built with OpenMP and a fixed team size: each supernode's assembly wakes the
 // team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
@@ -48,6 +57,7 @@ static std::unique_lock<std::mutex> blas_guard() {
 
 struct CholmodFactor::Impl {
   cholmod_common c;
+  CscView view;  // what `a` points to
   cholmod_sparse a{};
   cholmod_dense b{};
   cholmod_factor* l = nullptr;
@@ -87,6 +97,7 @@ CholmodFactor::~CholmodFactor() {
 void CholmodFactor::analyze(const CscView& view) {
   Impl& m = *impl_;
   cholmod_free_factor(&m.l, &m.c);
+  m.view = view;
   m.a = cholmod_sparse{};
   m.a.nrow = m.a.ncol = view.n;
   m.a.nzmax = view.colptr[view.n];
@@ -121,7 +132,12 @@ void CholmodFactor::solve(double* x) {
   const std::unique_lock<std::mutex> hold = blas_guard();
   if (!cholmod_solve2(CHOLMOD_A, m.l, &m.b, nullptr, &m.x, nullptr, &m.y, &m.e, &m.c))
     throw std::runtime_error("CHOLMOD solve failed");
-  std::copy_n(static_cast<const double*>(m.x->x), m.l->n, x);
+  const double* solution = static_cast<const double*>(m.x->x);
+  // Against the symmetric matrix of the lower triangle, the one CHOLMOD reads; x still holds b.
+  RBPART_CHECK(solve_violation(Eigen::SparseMatrix<double>(eigen_view(m.view).selfadjointView<Eigen::Lower>()),
+                               Eigen::Map<const Eigen::VectorXd>(solution, m.view.n),
+                               Eigen::Map<const Eigen::VectorXd>(x, m.view.n)));
+  std::copy_n(solution, m.l->n, x);
 }
 
 // --- KLU -------------------------------------------------------------------------------------------
@@ -175,7 +191,10 @@ bool KluFactor::factorize() {
 
 void KluFactor::solve(double* x) {
   Impl& m = *impl_;
+  Eigen::VectorXd b;
+  if constexpr (kValidate) b = Eigen::Map<const Eigen::VectorXd>(x, m.a.n);
   if (!m.numeric || !klu_solve(m.symbolic, m.numeric, m.a.n, 1, x, &m.c)) throw std::runtime_error("KLU solve failed");
+  RBPART_CHECK(solve_violation(eigen_view(m.a), Eigen::Map<const Eigen::VectorXd>(x, m.a.n), b));
 }
 
 }  // namespace rbpart

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include "core/validate.hpp"
+#include "solve/solve_check.hpp"
+
 namespace rbpart {
 
 void TiedBodySpaceLu::assign(const IslandSystem& system) {
@@ -103,6 +106,7 @@ void TiedBodySpaceLu::solve(Eigen::VectorXd& x) {
       if (s.body[j][slot] >= 0) h_.segment<6>(6 * s.body[j][slot]) += s.jac[j][slot] * weight;
   }
   const Eigen::VectorXd u = lu_.solve(h_);
+  RBPART_CHECK(solve_violation(n_, u, h_));
   for (int j = 0; j < s.rows; ++j)
     if (kind_[j] == kFree) x[j] = (x[j] - row_velocity(s, j, u)) / s.sigma[j];
   for (int j = 0; j < s.rows; ++j)

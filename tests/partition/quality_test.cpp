@@ -1,5 +1,5 @@
-// measure_partition against hand-counted cuts, check_partition against each violation it must
-// name, and the partitioner and refiner names.
+// measure_partition against hand-counted cuts, check_partition and check_island_partition against
+// each violation they must name, and the partitioner and refiner names.
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -71,6 +71,17 @@ TEST(CheckPartition, NamesEachViolation) {
   expect_violation(Partition{{0, 1, 0, 1, 1}, 2}, 3, "part 0 is not connected: node 2 is not reached from node 0");
   expect_violation(Partition{{0, 0, 1, 2, 1}, 3}, 3, "part 1 is not connected: node 4 is not reached from node 2");
   EXPECT_EQ(check_partition(make_graph(0, {}), Partition{}, 1), "");
+}
+
+TEST(CheckIslandPartition, NamesEachViolation) {
+  // The ring's island {0..4} and the island {5, 6}.
+  const ConstraintGraph g = make_graph(7, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {0, 4}, {5, 6}});
+  auto violation = [&](std::vector<int> part_of, int parts) { return check_island_partition(g, Partition{part_of, parts}); };
+  EXPECT_EQ(violation({0, 0, 0, 0, 0, 1, 1}, 2), "");
+  EXPECT_EQ(violation({0, 0, 0, 1, 1, 2, 2}, 3), "edge 0-4 joins parts 0 and 1 of one island");
+  EXPECT_EQ(violation({0, 0, 0, 0, 0, 0, 0}, 1), "part 0 is not connected: node 5 is not reached from node 0");
+  EXPECT_EQ(violation({1, 1, 1, 1, 1, 0, 0}, 2), "node 0 is the lowest of part 1, met before part 0");
+  EXPECT_EQ(violation({0, 0, 0, 0, 0, 1}, 2), "part_of has 6 entries for 7 nodes");
 }
 
 TEST(PartitionNames, RoundTripAndUnknownNamesListTheChoices) {

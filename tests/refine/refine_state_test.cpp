@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "core/validate.hpp"
 #include "graph/generate.hpp"
 #include "refine/reference.hpp"
 #include "refine/refine_state.hpp"
@@ -47,6 +48,46 @@ TEST(RefineState, DebugChecksRejectAnInvalidInput) {
   // Part 0 = {0, 2} is not connected: the debug checks refuse to start.
   const ConstraintGraph g = make_graph(3, {{0, 1}, {1, 2}});
   EXPECT_THROW(refined(g, make_partition({0, 1, 0}), RefinerKind::Fm, 3, true), std::logic_error);
+}
+
+// The from-scratch check names bookkeeping that drifted from the partition: a cut not kept, then a
+// move that breaks a part.
+TEST(RefineState, ViolationNamesWhatDrifted) {
+  // Path 0-1-2-3, parts {0, 1} and {2, 3}: cut 1.
+  const ConstraintGraph g = make_graph(4, {{0, 1}, {1, 2}, {2, 3}});
+  Partition p = make_partition({0, 0, 1, 1});
+  PartitionParams params;
+  RefineState s(g, params, p);
+  EXPECT_EQ(s.violation(), "");
+  s.add_to_cut(1);
+  EXPECT_EQ(s.violation(), "tracked edge cut 2, recomputed 1");
+  s.add_to_cut(-1);
+  s.move(3, 0);  // parts {0, 1, 3} and {2}: cut 2, part 0 in two pieces
+  EXPECT_EQ(s.violation(), "tracked edge cut 1, recomputed 2");
+  s.add_to_cut(1);
+  EXPECT_EQ(s.violation(), "part 0 is not connected: node 3 is not reached from node 0");
+  EXPECT_THROW(s.check("test"), std::logic_error);
+}
+
+// How often the refiners re-check: every move with debug_checks; in validate builds every move up to
+// kValidateMoveNodes nodes and every pass beyond; never otherwise.
+TEST(RefineState, CheckFrequency) {
+  PartitionParams params;
+  for (const int n : {1, RefineState::kValidateMoveNodes, RefineState::kValidateMoveNodes + 1}) {
+    SCOPED_TRACE(n);
+    const ConstraintGraph g = make_graph(n, {});
+    std::vector<int> part_of(n);
+    for (int v = 0; v < n; ++v) part_of[v] = v;
+    Partition p = make_partition(part_of);
+    params.debug_checks = false;
+    RefineState s(g, params, p);
+    EXPECT_EQ(s.check_passes(), kValidate);
+    EXPECT_EQ(s.check_moves(), kValidate && n <= RefineState::kValidateMoveNodes);
+    params.debug_checks = true;
+    s.reset(g, params, p);
+    EXPECT_TRUE(s.check_passes());
+    EXPECT_TRUE(s.check_moves());
+  }
 }
 
 // Random connected partitions of generated graphs, then random legal moves: after each, every
