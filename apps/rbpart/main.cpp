@@ -9,10 +9,13 @@
 #include "apps/rbpart/commands.hpp"
 #include "core/error.hpp"
 #include "core/interrupt.hpp"
+#include "core/memory.hpp"
 
 int main(int argc, char** argv) {
   // Before any output is opened: a signal must find every temporary file registered.
   rbpart::install_interrupt_handlers();
+  // The study's replays solve without a World.
+  rbpart::keep_freed_memory();
   CLI::App app{"rbpart: stiff rigid-body simulation with exact direct and partitioned BLCP solvers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rbpart 0.1");

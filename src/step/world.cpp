@@ -14,6 +14,7 @@
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "core/timer.hpp"
 #include "graph/constraint_graph.hpp"
 #include "graph/islands.hpp"
@@ -359,7 +360,9 @@ struct World::Impl {
 };
 
 World::World(SceneDef scene, StepParams step_params, SolverParams solver_params, PartitionParams partition_params)
-    : impl_(std::make_unique<Impl>(std::move(scene), step_params, solver_params, partition_params)) {}
+    : impl_(std::make_unique<Impl>(std::move(scene), step_params, solver_params, partition_params)) {
+  keep_freed_memory();
+}
 World::~World() = default;
 
 const StepStats& World::step() { return impl_->step(); }
