@@ -12,11 +12,19 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   const int nb = this->bodies(), nr = static_cast<int>(rows_.size());
   mass_.resize(nb);
   for (int b = 0; b < nb; ++b) mass_[b] = mass[bodies_[b]];
+  // N's pattern follows from the bodies and each row's bodies: unchanged (a resting island assigned
+  // again), it is not rebuilt.
+  bool same_pattern = !n_.dense() && nb > dense_max_bodies && 6 * nb == n_.size() &&
+                      nr == static_cast<int>(body_.size());
   body_.resize(nr);
   normal_.resize(nr);
   for (int k = 0; k < nr; ++k) {
     const int j = rows_[k];
-    for (int p = 0; p < 2; ++p) body_[k][p] = s.body[j][p] < 0 ? -1 : local_body(s.body[j][p]);
+    for (int p = 0; p < 2; ++p) {
+      const int b = s.body[j][p] < 0 ? -1 : local_body(s.body[j][p]);
+      same_pattern = same_pattern && body_[k][p] == b;
+      body_[k][p] = b;
+    }
     normal_[k] = s.normal_of[j] < 0 ? -1
                                     : static_cast<int>(std::lower_bound(rows_.begin(), rows_.end(), s.normal_of[j]) -
                                                        rows_.begin());
@@ -27,6 +35,10 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   inv_s_.assign(nr, 0.0);
   tie_weight_.assign(nr, 0.0);
   factored_ = false;
+  if (same_pattern) {
+    n_.keep_pattern();
+    return;
+  }
   if (nb <= dense_max_bodies) {
     n_.assign_dense(6 * nb);
     return;

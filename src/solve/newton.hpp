@@ -57,6 +57,9 @@ struct NewtonWorkspace {
   InteriorPoint ipm;
   // The state of the last Newton step; of the interior point's last iterate; the last one tried from it.
   std::vector<RowState> last_state, ipm_state, tried_state;
+  // The island's warm start in, answer out (solve_island_newton).
+  Eigen::VectorXd island_lambda;
+  std::vector<RowState> island_state;
 };
 
 // Solves the island's coupled problem in place: `lambda` and `state` carry the warm start in

@@ -2,21 +2,22 @@
 // island, islands in parallel: `--solver newton`.
 #include "solve/solve.hpp"
 
-#include "solve/island_system.hpp"
-#include "solve/monolithic.hpp"
+#include "solve/island_cache.hpp"
 #include "solve/newton_island.hpp"
 
 namespace rbpart {
 
-SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params) {
+SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
+                                IslandCache* cache) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<NewtonResult> outcome(islands.count());
+  IslandCache this_step;
+  const std::vector<IslandSlot*> slots = (cache ? *cache : this_step).slots_for(islands);
   for_each_island(islands, [&](int i) {
-    IslandSystem s;
-    s.gather(rows, bodies, islands, i, local_row);
-    MonolithicSystem system;
-    system.assign(s, params.dense_max_bodies);
-    outcome[i] = solve_island_newton(s, system, params.max_factorizations, rows);
+    IslandSlot& slot = *slots[i];
+    slot.system.gather(rows, bodies, islands, i, local_row);
+    slot.backend.assign(slot.system, params.dense_max_bodies);
+    outcome[i] = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);
   });
 
   SolveReport report;

@@ -7,14 +7,16 @@
 
 namespace rbpart {
 
-NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows) {
-  Eigen::VectorXd lambda(s.rows);
-  std::vector<RowState> state(s.rows);
+NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows,
+                                 NewtonWorkspace& ws) {
+  Eigen::VectorXd& lambda = ws.island_lambda;
+  std::vector<RowState>& state = ws.island_state;
+  lambda.resize(s.rows);
+  state.resize(s.rows);
   for (int r = 0; r < s.rows; ++r) {
     lambda[r] = rows.lambda[s.global_rows[r]];
     state[r] = rows.state[s.global_rows[r]];
   }
-  NewtonWorkspace ws;
   const NewtonResult result = solve_newton(s, system, max_factorizations, lambda, state, ws);
   set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
   store_island_solution(s, lambda, state, rows);

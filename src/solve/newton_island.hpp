@@ -22,7 +22,8 @@ void for_each_island(const Islands& islands, Fn&& fn) {
 // Solves island `s` with `system` (assigned to s) and writes the impulses, states and final
 // friction bounds (into s.lo/s.hi too) of its answer into `rows`. Islands own disjoint rows, so
 // islands may run this in parallel on the same `rows`.
-NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows);
+NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows,
+                                 NewtonWorkspace& ws);
 
 // Adds one island's result to the solve stage's report.
 void add_island_result(const NewtonResult& result, SolveReport& report);

@@ -35,7 +35,8 @@ NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& b
     SubstructuredSystem system;
     system.assign(s, island_parts(s, graph, partition), params.dense_max_bodies);
     IslandOutcome& o = outcome[i];
-    o.newton = solve_island_newton(s, system, params.max_factorizations, rows);
+    NewtonWorkspace ws;
+    o.newton = solve_island_newton(s, system, params.max_factorizations, rows, ws);
     o.parts = system.parts();
     o.interface_rows = system.interface_rows();
     o.interface_bodies = system.interface_bodies();

@@ -15,12 +15,21 @@ void PatternFactor::assign_dense(int n) {
 }
 
 void PatternFactor::assign_sparse(int n, std::vector<int> colptr, std::vector<int> rowind) {
+  // The same pattern keeps its arrays, whose addresses the analyses hold, and the analyses.
+  if (!dense_ && n == n_ && colptr == colptr_ && rowind == rowind_) {
+    keep_pattern();
+    return;
+  }
   n_ = n;
   dense_ = false;
   colptr_ = std::move(colptr);
   rowind_ = std::move(rowind);
   values_.assign(rowind_.size(), 0.0);
   cholmod_ready_ = klu_ready_ = false;
+}
+
+void PatternFactor::keep_pattern() {
+  if (klu_ready_) klu_.repivot();
 }
 
 void PatternFactor::set_zero() {

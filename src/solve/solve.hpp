@@ -24,10 +24,14 @@ struct SolveReport {
 // CHOLMOD for large ones; islands in parallel.
 SolveReport solve_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
 
+class IslandCache;
+
 // The Newton solver on the coupled problem (solve/newton.hpp) with the monolithic body-space
 // backend (solve/monolithic.hpp); islands in parallel. `--solver newton`, under construction: it is
-// to replace solve_direct (see docs/pipeline.md for its measured state).
-SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);
+// to replace solve_direct (see docs/pipeline.md for its measured state). With `cache`
+// (solve/island_cache.hpp), the islands' analyses and buffers carry over to the next call.
+SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
+                                IslandCache* cache = nullptr);
 
 // Projected Gauss-Seidel on the same rows (the iterative baseline).
 SolveReport solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);

@@ -189,6 +189,8 @@ bool KluFactor::factorize() {
   return m.c.rcond > 0;
 }
 
+void KluFactor::repivot() { klu_free_numeric(&impl_->numeric, &impl_->c); }
+
 void KluFactor::solve(double* x) {
   Impl& m = *impl_;
   Eigen::VectorXd b;

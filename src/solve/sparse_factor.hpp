@@ -47,6 +47,8 @@ class KluFactor {
   void analyze(const CscView& a);
   // Numeric LU of the current values with partial pivoting; false if singular.
   bool factorize();
+  // The next factorize() searches its pivots afresh instead of reusing the last ones.
+  void repivot();
   // x <- A^-1 x.
   void solve(double* x);
 

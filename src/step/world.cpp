@@ -23,6 +23,7 @@
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
+#include "solve/island_cache.hpp"
 #include "solve/solve.hpp"
 #include "solve/substructured.hpp"
 #include "step/world_internals.hpp"
@@ -56,6 +57,7 @@ struct World::Impl {
   WarmStart warm;
   PositionProjection position_projection;
   Islands islands;
+  IslandCache island_cache;  // the Newton solver's per-island analyses and buffers, step to step
   ConstraintGraph graph_;
   Partition partition_;
   StepStats stats;
@@ -197,7 +199,7 @@ struct World::Impl {
       case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
       case SolverKind::Direct: report = solve_direct(rows, bodies, islands, solver_params); break;
       case SolverKind::Newton:
-        report = solve_newton_direct(rows, bodies, islands, solver_params);
+        report = solve_newton_direct(rows, bodies, islands, solver_params, &island_cache);
         s.factor_ms = report.factor_ms;
         break;
       case SolverKind::Substructured: {
