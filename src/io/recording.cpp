@@ -1,9 +1,9 @@
 #include "io/recording.hpp"
 
-#include "collision/collide.hpp"
 #include "io/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/timer.hpp"
+#include "geometry/hull.hpp"
 #include "graph/constraint_graph.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
@@ -131,7 +131,7 @@ void write_body(ByteWriter& w, const BodyDef& body, const Bodies& bodies, int i)
       w.f32(static_cast<float>(s.half_length));
       break;
     case kConvex: {
-      // The hull the collider and mass properties use (collide.hpp), so the viewer draws the same
+      // The hull the collider and mass properties use (geometry/hull.hpp), so the viewer draws the same
       // polyhedron that collides.
       const HullFaces hull = convex_hull_faces(s.vertices);
       w.u32(count32(s.vertices.size(), "hull vertices"));

@@ -63,7 +63,7 @@ class RecordingWriter {
 // A recording read back (for `rbpart view`/`snapshot` to validate a file, and for tests).
 struct RecordedBody {
   Shape shape;           // vertices as stored (float precision)
-  std::vector<std::uint32_t> face_offsets, face_indices;  // convex: hull faces (collide.hpp's HullFaces)
+  std::vector<std::uint32_t> face_offsets, face_indices;  // convex: hull faces (geometry/hull.hpp's HullFaces)
   bool is_static = false;
   float mass = 0;                // kg (0 for static bodies)
   std::array<float, 7> pose{};  // shape frame at the start: x y z, quaternion w x y z

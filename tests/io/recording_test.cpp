@@ -3,8 +3,8 @@
 // refused with a message naming the problem.
 #include "io/recording.hpp"
 
-#include "collision/collide.hpp"
 #include "core/error.hpp"
+#include "geometry/hull.hpp"
 #include "graph/constraint_graph.hpp"
 #include "io/temp_dir.hpp"
 #include "partition/partition.hpp"
