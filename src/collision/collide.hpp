@@ -1,6 +1,6 @@
 #pragma once
 // Collision stage: contact points between the bodies' shapes. This header hides Bullet and the
-// narrow phase (bullet_adapter.cpp).
+// narrow phase: bullet_adapter.cpp implements the Collider on narrow_phase.hpp and manifold.hpp.
 #include <rbpart/scene.hpp>
 
 #include <cstdint>
