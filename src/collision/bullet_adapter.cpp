@@ -3,7 +3,7 @@
 // Besides geometry/hull.cpp (btConvexHullComputer), the only file that includes Bullet.
 //
 // - Broad phase: btDbvtBroadphase inside a btCollisionWorld. AABBs are set here, each grown by half
-//   the contact margin plus the body's own sweep, so the boxes of every pair closer than margin_ab
+//   the contact margin plus the body's own sweep, so the boxes of every pair closer than its margin
 //   overlap. Static-static pairs are excluded by the filter masks and joined pairs by an overlap
 //   filter: filtered pairs never become pairs. The dispatcher runs one collision algorithm of ours
 //   for every pair of shape types (PairAlgorithm): the narrow phase, then the pair's manifold
@@ -170,7 +170,7 @@ struct Collider::Impl final : GjkEpa {
   std::unique_ptr<btDefaultCollisionConfiguration> config;
   std::unique_ptr<Dispatcher> dispatcher;
   std::unique_ptr<btDbvtBroadphase> broadphase;
-  std::unique_ptr<btCollisionWorld> world;  // destroyed first: it releases pairs and manifolds
+  std::unique_ptr<btCollisionWorld> world;  // destroyed first: it releases the pairs and their algorithms
   ContactIds ids;
 
   GjkEpaResult closest_pair(int a, int b, const Vec3& axis) const override;
@@ -248,7 +248,7 @@ Collider::Collider(const SceneDef& scene, double margin) : impl_(std::make_uniqu
   btDefaultCollisionConstructionInfo info;
   info.m_customCollisionAlgorithmMaxElementSize = static_cast<int>(sizeof(PairAlgorithm));
   // A pool for the pairs of a dense pile (about 20 broad-phase pairs per body); beyond, Bullet
-  // allocates. The pair algorithms keep their points themselves: no manifolds.
+  // allocates. The pair algorithms keep their points themselves (manifold.hpp): no Bullet manifolds.
   info.m_defaultMaxCollisionAlgorithmPoolSize = std::max(4096, 16 * n);
   info.m_defaultMaxPersistentManifoldPoolSize = 1;
   m.config = std::make_unique<btDefaultCollisionConfiguration>(info);
