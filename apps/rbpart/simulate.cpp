@@ -82,11 +82,14 @@ int run_simulate(const Options& o) {
   std::optional<AtomicFile> state;  // written at the end, but a bad path must not wait for the run
   if (!o.state_path.empty()) state.emplace(o.state_path);
   std::optional<RecordingWriter> recording;
+  std::vector<PartitionParams> recorded;  // the recording's channels beyond the run's own
+  std::vector<ChannelPartition> recorded_parts;
   if (!o.record_path.empty()) {
     const std::string run_channel =
         partition_params.partitioner == PartitionerKind::None ? "islands" : channel_name(partition_params);
-    recording.emplace(o.record_path, world, params, run_channel,
-                      parse_channel_list(o.record_partitioners, partition_params));
+    recorded = parse_channel_list(o.record_partitioners, partition_params);
+    recorded_parts.resize(recorded.size());
+    recording.emplace(o.record_path, world, params, run_channel, recorded);
   }
 
   std::vector<double> total_ms, solve_ms;
@@ -102,7 +105,12 @@ int run_simulate(const Options& o) {
   for (int i = 0; i < steps && !interrupt_signal(); ++i, ++done) {
     const StepStats& s = world.step();
     if (stats) stats->write(s);
-    if (recording) recording->write_step(world, s);
+    if (recording) {
+      // The extra channels partition the step's graph afresh; the writer only stores them.
+      for (std::size_t c = 0; c < recorded.size(); ++c)
+        recorded_parts[c].quality = partition_and_refine(world_graph(world), recorded[c], recorded_parts[c].partition);
+      recording->write_step(world, s, recorded_parts);
+    }
     if (s.profile.total_ms > (total_ms.empty() ? -1.0 : total_ms[slowest])) slowest = i;
     total_ms.push_back(s.profile.total_ms);
     solve_ms.push_back(s.profile.solve_ms);

@@ -1,6 +1,6 @@
 #pragma once
-// Collision stage: contact points between the bodies' shapes. This header hides Bullet; the only
-// file that includes Bullet is bullet_adapter.cpp.
+// Collision stage: contact points between the bodies' shapes. This header hides Bullet and the
+// narrow phase: bullet_adapter.cpp implements the Collider on narrow_phase.hpp and manifold.hpp.
 #include <rbpart/scene.hpp>
 
 #include <cstdint>
@@ -17,20 +17,6 @@ struct Contact {
   double distance = 0;    // signed: negative = penetration depth (m)
   std::uint64_t id = 0;   // persistent: the same physical contact keeps its id across steps
 };
-
-// Convex hull of a point set by Bullet's btConvexHullComputer; mass properties and the collider
-// both use it, so they see the same polyhedron. Faces are polygons over indices into `points`,
-// counter-clockwise seen from outside, in CSR form: face f is indices[offsets[f] .. offsets[f+1]).
-// Bullet decides the hull on points rounded to 1/10216 of their bounding box; here its faces are
-// re-formed from the given coordinates: triangles coplanar to round-off merge into one face (the
-// 4-corner faces of a rotated box), the rest stay triangles. Fewer than 4 faces (or none) means
-// the points are coplanar, collinear or coincident.
-struct HullFaces {
-  std::vector<int> offsets;  // faces + 1 entries (empty when there is no face)
-  std::vector<int> indices;
-  int size() const { return offsets.empty() ? 0 : static_cast<int>(offsets.size()) - 1; }
-};
-HullFaces convex_hull_faces(const std::vector<Vec3>& points);
 
 class Collider {
  public:

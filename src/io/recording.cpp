@@ -1,9 +1,8 @@
 #include "io/recording.hpp"
 
-#include "collision/collide.hpp"
 #include "io/atomic_file.hpp"
 #include "core/error.hpp"
-#include "core/timer.hpp"
+#include "geometry/hull.hpp"
 #include "graph/constraint_graph.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
@@ -131,7 +130,7 @@ void write_body(ByteWriter& w, const BodyDef& body, const Bodies& bodies, int i)
       w.f32(static_cast<float>(s.half_length));
       break;
     case kConvex: {
-      // The hull the collider and mass properties use (collide.hpp), so the viewer draws the same
+      // The hull the collider and mass properties use (geometry/hull.hpp), so the viewer draws the same
       // polyhedron that collides.
       const HullFaces hull = convex_hull_faces(s.vertices);
       w.u32(count32(s.vertices.size(), "hull vertices"));
@@ -222,11 +221,10 @@ struct RecordingWriter::Impl {
   int nodes = 0;
   std::uint32_t frames = 0;
   std::string frame;         // reused per step
-  // Reused per step: the edges (u < v) with their weights and rows, an extra channel's partition,
-  // a channel's interface bits and interface bodies.
+  // Reused per step: the edges (u < v) with their weights and rows, a channel's interface bits and
+  // interface bodies.
   std::vector<std::uint32_t> eu, ev;
   std::vector<std::uint16_t> ew, er;
-  Partition scratch;
   std::vector<std::uint8_t> bits;
   std::vector<char> is_interface_body;
 
@@ -302,11 +300,13 @@ RecordingWriter::RecordingWriter(const std::string& path, const World& world, co
 
 RecordingWriter::~RecordingWriter() = default;
 
-void RecordingWriter::write_step(const World& world, const StepStats& stats) {
+void RecordingWriter::write_step(const World& world, const StepStats& stats,
+                                 const std::vector<ChannelPartition>& extra) {
   Impl& m = *impl_;
   const Bodies& bodies = world_bodies(world);
   const ConstraintGraph& g = world_graph(world);
   if (g.node_count() != m.nodes) throw std::logic_error("recording: node count changed");
+  if (extra.size() != m.extra.size()) throw std::logic_error("recording: one partition per extra channel expected");
 
   // Edges once per pair (u < v); CSR neighbours are sorted, so the list is sorted by (u, v).
   m.eu.clear();
@@ -340,14 +340,8 @@ void RecordingWriter::write_step(const World& world, const StepStats& stats) {
   for (std::uint16_t x : m.er) w.u16(x);
   w.pad4();
   m.write_channel(w, g, world_partition(world), stats.profile.partition_ms, stats.profile.refine_ms);
-  for (const PartitionParams& c : m.extra) {
-    const Timer tp;
-    partition_graph(g, c, m.scratch);
-    const double partition_ms = tp.ms();
-    const Timer tr;
-    refine_partition(g, c, m.scratch);
-    m.write_channel(w, g, m.scratch, partition_ms, tr.ms());
-  }
+  for (const ChannelPartition& c : extra)
+    m.write_channel(w, g, c.partition, c.quality.partition_ms, c.quality.refine_ms);
   const std::uint32_t length = count32(m.frame.size() - 4, "frame bytes");
   for (int i = 0; i < 4; ++i) m.frame[i] = static_cast<char>((length >> (8 * i)) & 0xff);
   m.sink.write(m.frame);

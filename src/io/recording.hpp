@@ -5,6 +5,7 @@
 // (docs/design.md#contracts). Little-endian binary, gzip-compressed as a whole so the browser can inflate it
 // with DecompressionStream.
 #include "io/run_params.hpp"
+#include "partition/partition.hpp"
 
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
@@ -20,8 +21,6 @@
 
 namespace rbpart {
 
-struct Partition;
-
 constexpr std::uint32_t kRecordingVersion = 1;
 // "RBPREC" then CR LF, so that a text-mode transfer that rewrites line ends is detected.
 constexpr std::array<char, 8> kRecordingMagic = {'R', 'B', 'P', 'R', 'E', 'C', '\r', '\n'};
@@ -30,28 +29,37 @@ constexpr std::array<char, 8> kRecordingMagic = {'R', 'B', 'P', 'R', 'E', 'C', '
 // "step", which the frame holds itself).
 extern const std::vector<std::string> kRecordedStats;
 
-// A partition channel beyond the run's own: partitioner, refiner and their parameters.
+// A partition channel beyond the run's own: partitioner, refiner and their parameters. The caller
+// partitions each step's graph for it (partition_and_refine); the writer only stores the result.
 // Name as the viewer lists it: "mindp", "mix+fm" (refiner None adds nothing).
 std::string channel_name(const PartitionParams& params);
 // "mindp,mix+fm,bfs" -> one configuration each, with `base`'s nmax and thresholds. Throws InputError
 // on an empty item, an unknown partitioner or refiner, or partitioner none.
 std::vector<PartitionParams> parse_channel_list(const std::string& list, const PartitionParams& base);
 
+// An extra channel's partition of one step's graph and its quality, whose partition_ms and
+// refine_ms are recorded.
+struct ChannelPartition {
+  Partition partition;
+  PartitionQuality quality;
+};
+
 // Streams a recording into `path`: construct before the run, write_step() after every step,
 // finish() at the end. The file appears only when finish() succeeds (AtomicFile).
 class RecordingWriter {
  public:
   // Takes the shapes and starting poses from `world` (before its first step). `run_channel` names
-  // the run's own partition (World::partition()), channel 0; each of `extra` is computed by the
-  // writer from the step's graph. Throws InputError if `path` cannot be created.
+  // the run's own partition (World::partition()), channel 0; `extra` the channels after it, whose
+  // partitions write_step() is given. Throws InputError if `path` cannot be created.
   RecordingWriter(const std::string& path, const World& world, const ParamList& params,
                   const std::string& run_channel, std::vector<PartitionParams> extra);
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
 
-  // Records `world` as it is after the step that returned `stats`.
-  void write_step(const World& world, const StepStats& stats);
+  // Records `world` as it is after the step that returned `stats`, with `extra`: the step's
+  // partition of each extra channel, in the constructor's order.
+  void write_step(const World& world, const StepStats& stats, const std::vector<ChannelPartition>& extra);
   // Ends the stream (the trailer holds the frame count) and commits the file.
   void finish();
 
@@ -63,7 +71,7 @@ class RecordingWriter {
 // A recording read back (for `rbpart view`/`snapshot` to validate a file, and for tests).
 struct RecordedBody {
   Shape shape;           // vertices as stored (float precision)
-  std::vector<std::uint32_t> face_offsets, face_indices;  // convex: hull faces (collide.hpp's HullFaces)
+  std::vector<std::uint32_t> face_offsets, face_indices;  // convex: hull faces (geometry/hull.hpp's HullFaces)
   bool is_static = false;
   float mass = 0;                // kg (0 for static bodies)
   std::array<float, 7> pose{};  // shape frame at the start: x y z, quaternion w x y z

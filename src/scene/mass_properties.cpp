@@ -6,8 +6,8 @@
 #include <sstream>
 #include <string>
 
-#include "collision/collide.hpp"
 #include "core/error.hpp"
+#include "geometry/hull.hpp"
 #include "scene/limits.hpp"
 
 namespace rbpart {

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "core/error.hpp"
+#include "geometry/hull.hpp"
 
 namespace rbpart {
 namespace {

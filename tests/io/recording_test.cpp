@@ -3,8 +3,8 @@
 // refused with a message naming the problem.
 #include "io/recording.hpp"
 
-#include "collision/collide.hpp"
 #include "core/error.hpp"
+#include "geometry/hull.hpp"
 #include "graph/constraint_graph.hpp"
 #include "io/temp_dir.hpp"
 #include "partition/partition.hpp"
@@ -101,10 +101,14 @@ class RecordingTest : public ::testing::Test {
     World world(all_shapes_scene());
     PartitionParams base;
     base.nmax = 2;
-    RecordingWriter writer(path, world, {{"solver", "direct"}}, "islands", parse_channel_list(extra, base));
+    const std::vector<PartitionParams> channels = parse_channel_list(extra, base);
+    std::vector<ChannelPartition> parts(channels.size());
+    RecordingWriter writer(path, world, {{"solver", "direct"}}, "islands", channels);
     for (int i = 0; i < steps; ++i) {
       const StepStats& s = world.step();
-      writer.write_step(world, s);
+      for (std::size_t c = 0; c < channels.size(); ++c)
+        parts[c].quality = partition_and_refine(world_graph(world), channels[c], parts[c].partition);
+      writer.write_step(world, s, parts);
       expected.push_back(expect(world));
       stats.push_back(s);
     }
@@ -241,7 +245,7 @@ TEST_F(RecordingTest, UnfinishedRecordingLeavesNoFile) {
   {
     World world(all_shapes_scene());
     RecordingWriter writer(dir.file("run.rbrec"), world, {}, "islands", {});
-    writer.write_step(world, world.step());
+    writer.write_step(world, world.step(), {});
   }
   EXPECT_TRUE(dir.entries().empty());
 }
