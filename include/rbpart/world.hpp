@@ -1,6 +1,6 @@
 #pragma once
 // A World advances a scene in time: collide -> assemble -> graph -> (partition -> refine) -> solve
-// -> integrate (docs/design.md#step), each stage timed into the step's profile.
+// -> integrate -> project (docs/design.md#step), each stage timed into the step's profile.
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
 
@@ -13,7 +13,7 @@ namespace rbpart {
 // Wall time of each stage of one step, named after the stage (ms).
 struct StepProfile {
   double collide_ms = 0, assemble_ms = 0, graph_ms = 0, partition_ms = 0, refine_ms = 0, solve_ms = 0,
-         integrate_ms = 0, total_ms = 0;
+         integrate_ms = 0, project_ms = 0, total_ms = 0;
 };
 
 // Per-step statistics (docs/design.md#contracts: one CSV line per step).

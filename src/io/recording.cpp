@@ -41,6 +41,7 @@ const StatField kStatFields[] = {
     {"refine_ms", [](const StepStats& s) { return s.profile.refine_ms; }},
     {"solve_ms", [](const StepStats& s) { return s.profile.solve_ms; }},
     {"integrate_ms", [](const StepStats& s) { return s.profile.integrate_ms; }},
+    {"project_ms", [](const StepStats& s) { return s.profile.project_ms; }},
     {"total_ms", [](const StepStats& s) { return s.profile.total_ms; }},
     {"solver_iterations", [](const StepStats& s) -> double { return s.solver_iterations; }},
     {"friction_passes", [](const StepStats& s) -> double { return s.friction_passes; }},

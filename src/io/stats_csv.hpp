@@ -18,10 +18,10 @@ namespace rbpart {
 class StatsCsvWriter {
  public:
   // The columns, in file order; names follow the StepStats / StepProfile fields.
-  static constexpr std::array<const char*, 32> kColumns = {
+  static constexpr std::array<const char*, 33> kColumns = {
       "step", "bodies", "contacts", "rows", "islands", "parts", "interface_rows", "interface_bodies",
       "edge_cut", "collide_ms", "assemble_ms", "graph_ms", "partition_ms", "refine_ms", "solve_ms",
-      "integrate_ms", "total_ms", "solver_iterations", "friction_passes", "factorizations", "fallback",
+      "integrate_ms", "project_ms", "total_ms", "solver_iterations", "friction_passes", "factorizations", "fallback",
       "blcp_residual", "max_penetration", "kinetic_energy", "loop_iterations", "factor_ms", "schur_ms",
       "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms", "unsettled"};
 

@@ -19,7 +19,7 @@
 #include "graph/constraint_graph.hpp"
 #include "graph/islands.hpp"
 #include "integrate/integrate.hpp"
-#include "integrate/position_projection.hpp"
+#include "project/project.hpp"
 #include "partition/partition.hpp"
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
@@ -30,11 +30,6 @@
 
 namespace rbpart {
 
-namespace {
-// Collide-and-project rounds of the position projection at most (see project_positions).
-constexpr int kProjectionRounds = 3;
-}  // namespace
-
 struct World::Impl {
   SceneDef scene;
   StepParams step_params;
@@ -44,18 +39,12 @@ struct World::Impl {
   Bodies bodies;
   std::vector<JointFrame> joints;
   Collider collider;
-  // A second collider for the position projection: the first keeps its pairs' persistent state
-  // (contact ids, last normals) from one step's collision to the next.
-  Collider projection_collider;
   // Per-step scratch, reused across steps.
   std::vector<Vec3> frame_position, sliding_v, sliding_w;
-  std::vector<Contact> contacts, projection_contacts;
-  std::vector<Vec3> still;  // zero velocities: the projection's collision needs no sweep
-  std::vector<Vec3> before_x;  // poses before a projection round
-  std::vector<Quat> before_q;
+  std::vector<Contact> contacts;
   Rows rows;
   WarmStart warm;
-  PositionProjection position_projection;
+  ProjectStage project;
   Islands islands;
   IslandCache island_cache;  // the Newton solver's per-island analyses and buffers, step to step
   ConstraintGraph graph_;
@@ -71,7 +60,7 @@ struct World::Impl {
 
   Impl(SceneDef s, StepParams sp, SolverParams so, PartitionParams pp)
       : scene(std::move(s)), step_params(sp), solver_params(so), partition_params(pp),
-        collider(scene, sp.contact_margin), projection_collider(scene, sp.contact_margin) {
+        collider(scene, sp.contact_margin), project(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
     // The Newton solver's body-space systems divide by every row's regularisation.
@@ -228,48 +217,13 @@ struct World::Impl {
   void integrate() {
     apply_impulses(rows, bodies);
     integrate_positions(bodies, scene.dt);
-    project_positions();
-    update_geometric_stiffness(rows, bodies, scene.dt);
-    warm.store(rows);
   }
 
-  // Position post-stabilisation (integrate/position_projection.hpp), when there are joints to close,
-  // when some body turned far enough in the step for its contacts' linearisation to fail, or when
-  // the direct solvers' friction loop did not settle (their impulses are then only approximate: a
-  // 1000 kg rock landing on 10 kg ones sank 12 mm into them). PGS reports no unsettled island: it is
-  // left at the cost of the plain baseline.
-  void project_positions() {
-    double turn = 0;
-    for (int i = 0; i < bodies.size(); ++i) turn = std::max(turn, scene.dt * bodies.w[i].norm());
-    if (step_params.joint_projection_iterations <= 0 ||
-        (joints.empty() && turn <= step_params.projection_turn && stats.unsettled == 0))
-      return;
-    update_world_inertia(bodies);
-    for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
-    still.assign(bodies.size(), Vec3::Zero());
-    // The contact distances are linearised at the poses the round starts from, and a large push
-    // that turns a body can leave it deeper than the linear model says (a rock pushed 27 mm out of
-    // a neighbour ended 12 mm in). And a round only guards the pairs it found within the contact
-    // margin: closing a chain's joints can pull a link through a body it was not touching (the
-    // heavy end of a falling chain, 15 mm deep). So the contacts are found again at the projected
-    // poses, and projected once more if deep, while a round found a contact deeper than twice the
-    // depth or moved a body's points more than half the margin (a pair it did not see may have met).
-    for (int round = 0; round < kProjectionRounds; ++round) {
-      projection_collider.collide(frame_position, bodies.q, still, still, scene.dt, projection_contacts);
-      double deepest = 0;
-      for (const Contact& c : projection_contacts) deepest = std::max(deepest, -c.distance);
-      const bool deep = deepest > 2 * step_params.projection_depth;
-      if (round > 0 && !deep) break;
-      before_x = bodies.x;
-      before_q = bodies.q;
-      position_projection.project(joints, projection_contacts, bodies, step_params, solver_params);
-      double moved = 0;
-      for (int i = 0; i < bodies.size(); ++i)
-        moved = std::max(moved, (bodies.x[i] - before_x[i]).norm() +
-                                    projection_collider.reach(i) * bodies.q[i].angularDistance(before_q[i]));
-      if (!deep && 2 * moved <= step_params.contact_margin) break;
-      for (int i = 0; i < bodies.size(); ++i) frame_position[i] = bodies.frame_position(i);
-    }
+  // What the next step takes from this one: the joints' geometric stiffness (after the project
+  // stage, whose mass metric has this step's) and the warm starts.
+  void keep_for_next_step() {
+    update_geometric_stiffness(rows, bodies, scene.dt);
+    warm.store(rows);
   }
 
   void restart(double time, const std::vector<BodyState>& states) {
@@ -328,6 +282,8 @@ struct World::Impl {
     if (observer) observer(rows, bodies, islands, graph_);
     { const Timer t; solve(s); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
+    { const Timer t; project.run(joints, s.unsettled > 0, scene.dt, bodies, step_params, solver_params); p.project_ms = t.ms(); }
+    { const Timer t; keep_for_next_step(); p.integrate_ms += t.ms(); }
     p.total_ms = total.ms();
 
     ++steps;

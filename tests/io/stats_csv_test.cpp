@@ -36,22 +36,22 @@ StepStats numbered_stats() {
   s.interface_rows = 7;
   s.interface_bodies = 8;
   s.edge_cut = 9;
-  s.profile = {10.5, 11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17.5};
-  s.solver_iterations = 18;
-  s.friction_passes = 19;
-  s.factorizations = 20;
-  s.fallbacks = 21;
+  s.profile = {10.5, 11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17.5, 18.5};
+  s.solver_iterations = 19;
+  s.friction_passes = 20;
+  s.factorizations = 21;
+  s.fallbacks = 22;
   s.residual = 1.0 / 3.0 * 1e-12;
   s.max_penetration = 0.1 + 0.2;
   s.kinetic_energy = 2.0 / 7.0 * 1e3;
-  s.loop_iterations = 25;
-  s.factor_ms = 26.5;
-  s.schur_ms = 27.5;
-  s.interface_ms = 28.5;
-  s.subsystem_ms = 29.5;
-  s.work_ms = 30.5;
-  s.critical_path_ms = 31.5;
-  s.unsettled = 32;
+  s.loop_iterations = 26;
+  s.factor_ms = 27.5;
+  s.schur_ms = 28.5;
+  s.interface_ms = 29.5;
+  s.subsystem_ms = 30.5;
+  s.work_ms = 31.5;
+  s.critical_path_ms = 32.5;
+  s.unsettled = 33;
   return s;
 }
 
@@ -82,29 +82,29 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0],
             "step,bodies,contacts,rows,islands,parts,interface_rows,interface_bodies,edge_cut,collide_ms,"
-            "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,total_ms,solver_iterations,"
+            "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,project_ms,total_ms,solver_iterations,"
             "friction_passes,factorizations,fallback,blcp_residual,max_penetration,kinetic_energy,loop_iterations,"
             "factor_ms,schur_ms,interface_ms,subsystem_ms,work_ms,critical_path_ms,unsettled");
   EXPECT_EQ(split(lines[0], ',').size(), StatsCsvWriter::kColumns.size());
 
-  // Row 1: columns 1..21 and 25..32 hold their own number (the times n + 0.5), 22..24 are exact.
+  // Row 1: columns 1..22 and 26..33 hold their own number (the times n + 0.5), 23..25 are exact.
   const std::vector<std::string> row = split(lines[1], ',');
   ASSERT_EQ(row.size(), StatsCsvWriter::kColumns.size());
   for (int c = 0; c < static_cast<int>(row.size()); ++c) {
-    if (c >= 21 && c <= 23) continue;
-    const double expected = ((c >= 9 && c <= 16) || (c >= 25 && c <= 30)) ? c + 1.5 : c + 1;
+    if (c >= 22 && c <= 24) continue;
+    const double expected = ((c >= 9 && c <= 17) || (c >= 26 && c <= 31)) ? c + 1.5 : c + 1;
     EXPECT_EQ(std::strtod(row[c].c_str(), nullptr), expected) << StatsCsvWriter::kColumns[c];
   }
-  EXPECT_EQ(std::strtod(row[21].c_str(), nullptr), first.residual);
-  EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.max_penetration);
-  EXPECT_EQ(std::strtod(row[23].c_str(), nullptr), first.kinetic_energy);
+  EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.residual);
+  EXPECT_EQ(std::strtod(row[23].c_str(), nullptr), first.max_penetration);
+  EXPECT_EQ(std::strtod(row[24].c_str(), nullptr), first.kinetic_energy);
 
   // Row 2: times to six significant digits; the sign of a zero is kept.
   const std::vector<std::string> row2 = split(lines[2], ',');
   ASSERT_EQ(row2.size(), StatsCsvWriter::kColumns.size());
   EXPECT_EQ(row2[0], "2");
   EXPECT_EQ(row2[14], "1.23457");
-  EXPECT_EQ(row2[22], "-0");
+  EXPECT_EQ(row2[23], "-0");
 }
 
 TEST(StatsCsv, AbandonedWriterLeavesNothing) {

@@ -6,7 +6,7 @@
 // Penetration: every contact within 1 cm at every step (issue #3). Rocks that strike at up to 8 m/s
 // and spin at 30 rad/s (half a radian per step) would bring a corner that their contacts at the
 // start of the step did not guard 1-2 cm into a neighbour; the position projection
-// (integrate/position_projection.hpp) pushes such contacts back to 2 mm.
+// (project/position_projection.hpp) pushes such contacts back to 2 mm.
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 

@@ -1,4 +1,4 @@
-#include "integrate/position_projection.hpp"
+#include "project/position_projection.hpp"
 
 #include <algorithm>
 #include <cmath>

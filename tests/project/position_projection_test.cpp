@@ -1,4 +1,4 @@
-// The position projection (integrate/position_projection.hpp) against the geometry it must
+// The position projection (project/position_projection.hpp) against the geometry it must
 // respect: a light ball resting on the ground, ball-jointed to a heavy ball whose anchor sits 1 cm
 // low. In the mass metric alone the light ball would take almost all of the correction, its centre
 // 2.8 mm down into the ground; with its contact as a one-sided row it may only turn. And a ball
@@ -9,7 +9,7 @@
 
 #include "assembly/assemble.hpp"
 #include "collision/collide.hpp"
-#include "integrate/position_projection.hpp"
+#include "project/position_projection.hpp"
 #include "scene/bodies.hpp"
 
 namespace rbpart {
