@@ -130,7 +130,7 @@ TEST(Hull, InteriorEdgeAndFacePointsAreNoVertices) {
   for (int i = 0; i < 30; ++i) p.push_back(turn * Vec3(u(rng), u(rng), u(rng)).cwiseProduct(half));
   for (int i = 0; i < 8; ++i)
     for (int j = i + 1; j < 8; ++j)
-      if (__builtin_popcount(i ^ j) == 1) p.push_back(0.5 * (p[i] + p[j]));
+      if (((i ^ j) & ((i ^ j) - 1)) == 0) p.push_back(0.5 * (p[i] + p[j]));  // corners differing in one axis
   for (int axis = 0; axis < 3; ++axis)
     for (double s : {-1.0, 1.0}) p.push_back(turn * (s * half[axis] * Vec3::Unit(axis)));
   expect_box_faces(p, convex_hull_faces(p), turn, 1e3 * kEps * extent(p));
