@@ -72,7 +72,10 @@ HullFaces convex_hull_faces(const std::vector<Vec3>& points) {
   for (int i = 0; i < m; ++i) {
     const int a = edges[i].tri, b = twin[i];
     if (b < 0 || root(a) == root(b)) continue;
-    if (normal[a].dot(normal[b]) >= 0 && on_plane(a, b) && on_plane(b, a)) group[root(a)] = root(b);
+    // A zero-area triangle (a vertex on an edge: the fan of a Bullet face through it) has a zero
+    // normal and lies "on" both faces along that edge; it joins neither (> 0), or it would chain
+    // them into one group, left as triangles beside a face of zero normal.
+    if (normal[a].dot(normal[b]) > 0 && on_plane(a, b) && on_plane(b, a)) group[root(a)] = root(b);
   }
 
   // Each face's boundary: the half-edges whose twin lies in another face, walked in the triangles'

@@ -123,5 +123,39 @@ TEST(PositionProjection, AContactDeeperThanTheDepthIsPushedBackToIt) {
   EXPECT_EQ(t.bodies.x[1].z(), kRadius - 0.004);
 }
 
+TEST(PositionProjection, ADeepPairSharesTheMoveByInverseMass) {
+  // The light and the heavy ball 2 cm into each other along the line of their centres (no lever):
+  // pushed back to 5 mm deep by x += M^-1 J^T delta, the 15 mm split as 1/m : 1/M.
+  Pair s = make_pair(1, 3, 0.05);
+  s.joints.clear();
+  s.bodies.x[2] = s.bodies.x[1] + Vec3(2 * kRadius - 0.02, 0, 0);
+  Contact& c = s.contacts[0];
+  c.body_a = 2;
+  c.body_b = 1;
+  c.normal = Vec3::UnitX();
+  c.point = s.bodies.x[1] + Vec3(kRadius - 0.01, 0, 0);
+  c.distance = -0.02;
+  const Vec3 light = s.bodies.x[1], heavy = s.bodies.x[2];
+  project(s, 0.005);
+  EXPECT_NEAR((s.bodies.x[2] - s.bodies.x[1]).x(), 2 * kRadius - 0.005, kYield);
+  EXPECT_NEAR(light.x() - s.bodies.x[1].x(), 0.015 * 3 / 4, kYield);
+  EXPECT_NEAR(s.bodies.x[2].x() - heavy.x(), 0.015 * 1 / 4, kYield);
+  EXPECT_NEAR((s.bodies.x[1] - light).tail<2>().norm(), 0, kYield);
+}
+
+TEST(PositionProjection, SeparatedBodiesAreLeftAlone) {
+  // Apart, or touching, with no joint: nothing to project.
+  for (double distance : {0.0, 0.003}) {
+    Pair s = make_pair(1, 100, distance);
+    s.joints.clear();
+    const Pair before = s;
+    project(s, 0.005);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(s.bodies.x[k], before.bodies.x[k]);
+      EXPECT_EQ(s.bodies.q[k].coeffs(), before.bodies.q[k].coeffs());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rbpart
