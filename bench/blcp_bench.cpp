@@ -11,7 +11,7 @@
 #include "solve/dense_matrix.hpp"
 #include "solve/sparse_matrix.hpp"
 
-#include "tests/solve/random_blcp.hpp"
+#include "solve/random_blcp.hpp"
 
 #include <benchmark/benchmark.h>
 

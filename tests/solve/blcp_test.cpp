@@ -5,7 +5,7 @@
 #include "solve/residual.hpp"
 #include "solve/sparse_matrix.hpp"
 
-#include "tests/solve/random_blcp.hpp"
+#include "solve/random_blcp.hpp"
 
 #include <gtest/gtest.h>
 

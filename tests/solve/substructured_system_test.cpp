@@ -15,7 +15,7 @@
 #include "solve/solve.hpp"
 
 #include "tests/solve/box_scenes.hpp"
-#include "tests/solve/random_blcp.hpp"
+#include "solve/random_blcp.hpp"
 #include "tests/solve/random_piece.hpp"
 
 #include <gtest/gtest.h>

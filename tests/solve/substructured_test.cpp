@@ -13,7 +13,7 @@
 #include "solve/solve.hpp"
 #include "solve/sub_island.hpp"
 
-#include "tests/solve/random_blcp.hpp"
+#include "solve/random_blcp.hpp"
 #include "tests/solve/substructured_problems.hpp"
 
 #include <gtest/gtest.h>

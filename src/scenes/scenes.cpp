@@ -50,7 +50,7 @@ const Domain* domain_of(const std::string& name) {
 // Throws InputError "scene <scene>: parameter '<name>' must ..." unless `value` lies in its domain.
 void check_parameter(const std::string& scene, const std::string& name, double value, const std::string& text) {
   const Domain* d = domain_of(name);
-  if (!d) throw std::logic_error("scene " + scene + ": parameter '" + name + "' has no domain in registry.cpp");
+  if (!d) throw std::logic_error("scene " + scene + ": parameter '" + name + "' has no domain in scenes.cpp");
   const bool inside = (d->lo_open ? value > d->lo : value >= d->lo) && value <= d->hi &&
                       (!d->whole || value == std::floor(value));
   if (inside) return;

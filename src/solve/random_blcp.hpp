@@ -1,5 +1,6 @@
 #pragma once
-// Random BLCPs for the solve tests and bench/blcp_bench.cpp (fixed seeds).
+// Random BLCPs for the solve tests and bench/blcp_bench.cpp (fixed seeds), as graph/generate.hpp
+// gives graphs to the partition tests and benchmarks.
 // - random_contact_island: an island built like the assembly stage builds one (DESIGN.md §2):
 //   bodies with random masses and inertias, contacts (a normal row [0, inf) and two friction rows)
 //   between two bodies or against a static body, bilateral joint rows, and a few general box rows,
