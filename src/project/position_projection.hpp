@@ -6,9 +6,9 @@
 //   whipping chain), more than Baumgarte feedback can take back;
 // - a rock turning at 30 rad/s (0.5 rad per step) brings a corner that its contacts at the start of
 //   the step did not guard about 1 cm into a neighbour.
-// So after the positions are integrated, when the scene has joints, some body turned by more than
-// projection_turn or the friction loop did not settle, the contacts are found again at the new poses and both errors are projected out
-// with the mass metric, x += M^-1 J^T delta (velocities untouched: no kinetic energy is added). Each
+// So after the positions are integrated, when the project stage asks for it (project.hpp), the
+// contacts are found again at the new poses and both errors are projected out with the mass
+// metric, x += M^-1 J^T delta (velocities untouched: no kinetic energy is added). Each
 // Gauss-Newton step is a BLCP solved by the monolithic direct solver:
 //   rigid joint rows: (A delta + phi)_j = 0,                       delta_j free
 //   contact rows:     w_c = (A delta)_c + s(d_c) >= 0,              delta_c >= 0, w_c delta_c = 0

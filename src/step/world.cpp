@@ -219,6 +219,8 @@ struct World::Impl {
     integrate_positions(bodies, scene.dt);
   }
 
+  void project_positions() { project.run(joints, stats.unsettled > 0, scene.dt, bodies, step_params, solver_params); }
+
   // What the next step takes from this one: the joints' geometric stiffness (after the project
   // stage, whose mass metric has this step's) and the warm starts.
   void keep_for_next_step() {
@@ -282,7 +284,7 @@ struct World::Impl {
     if (observer) observer(rows, bodies, islands, graph_);
     { const Timer t; solve(s); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
-    { const Timer t; project.run(joints, s.unsettled > 0, scene.dt, bodies, step_params, solver_params); p.project_ms = t.ms(); }
+    { const Timer t; project_positions(); p.project_ms = t.ms(); }
     { const Timer t; keep_for_next_step(); p.integrate_ms += t.ms(); }
     p.total_ms = total.ms();
 
