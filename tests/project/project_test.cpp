@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "project/project.hpp"
+#include "support/bodies.hpp"
 
 namespace rbpart {
 namespace {
@@ -29,22 +30,8 @@ struct Sunk {
     ball.mass = 1;
     ball.position = Vec3(0, 0, kRadius - kSunk);
     scene.bodies = {ground, ball};
-    for (const BodyDef& d : scene.bodies) {
-      const double inertia = d.is_static ? 0 : 0.4 * d.mass * kRadius * kRadius;
-      bodies.is_static.push_back(d.is_static);
-      bodies.mass.push_back(d.mass);
-      bodies.inv_mass.push_back(d.is_static ? 0 : 1 / d.mass);
-      bodies.inertia_body.push_back(Mat3::Identity() * inertia);
-      bodies.inv_inertia_body.push_back(Mat3::Identity() * (d.is_static ? 0 : 1 / inertia));
-      bodies.inv_inertia.push_back(bodies.inv_inertia_body.back());
-      bodies.com_local.push_back(Vec3::Zero());
-      bodies.friction.push_back(0.5);
-      bodies.x.push_back(d.position);
-      bodies.q.push_back(Quat::Identity());
-      bodies.v.push_back(Vec3::Zero());
-      bodies.w.push_back(Vec3::Zero());
-      bodies.geometric_stiffness.push_back(0);
-    }
+    test::add_static(bodies, ground.position);
+    test::add_body(bodies, false, ball.mass, Mat3::Identity() * (0.4 * ball.mass * kRadius * kRadius), ball.position);
   }
 };
 
