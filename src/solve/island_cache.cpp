@@ -1,19 +1,22 @@
 #include "solve/island_cache.hpp"
 
+#include <iterator>
+
 namespace rbpart {
 
 std::vector<IslandSlot*> IslandCache::slots_for(const Islands& islands) {
-  std::unordered_map<int, std::unique_ptr<IslandSlot>> kept;
   std::vector<IslandSlot*> slots(islands.count());
   for (std::size_t i = 0; i < islands.count(); ++i) {
     const bool empty = islands.body_offset[i] == islands.body_offset[i + 1];
     const int first = empty ? -1 - static_cast<int>(i) : islands.bodies[islands.body_offset[i]];
-    const auto found = slots_.find(first);
-    std::unique_ptr<IslandSlot>& slot = kept[first];
-    slot = found != slots_.end() ? std::move(found->second) : std::make_unique<IslandSlot>();
+    std::unique_ptr<IslandSlot>& slot = slots_[first];
+    if (!slot) slot = std::make_unique<IslandSlot>();
+    slot->used = true;
     slots[i] = slot.get();
   }
-  slots_ = std::move(kept);
+  // Islands own disjoint bodies, so no slot serves two; the ones no island used are freed.
+  for (auto it = slots_.begin(); it != slots_.end();) it = it->second->used ? std::next(it) : slots_.erase(it);
+  for (IslandSlot* slot : slots) slot->used = false;
   return slots;
 }
 

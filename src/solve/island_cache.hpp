@@ -2,8 +2,8 @@
 // Per-island state of the Newton solver kept from one step to the next (DESIGN.md §3: symbolic
 // analysis reused across iterations and steps, no allocation per step once warm). An island is
 // matched to the last step's by its first body. When its body-space pattern is unchanged (a
-// resting island), its CHOLMOD or KLU analysis is reused, and KLU refactors with the last pivot
-// order; its buffers keep their capacity either way.
+// resting island), its CHOLMOD or KLU analysis is reused (KLU's pivots are searched afresh:
+// pattern_factor.hpp); its buffers keep their capacity either way.
 #include "graph/islands.hpp"
 #include "solve/island_system.hpp"
 #include "solve/monolithic.hpp"
@@ -19,6 +19,7 @@ struct IslandSlot {
   IslandSystem system;
   MonolithicSystem backend;
   NewtonWorkspace workspace;
+  bool used = false;  // by an island of the current step (slots_for)
 };
 
 class IslandCache {
@@ -26,7 +27,6 @@ class IslandCache {
   // A slot per island of `islands`, in island order: the last step's slot of the island's first
   // body if there was one, else a new one. Slots of islands that are gone are freed.
   std::vector<IslandSlot*> slots_for(const Islands& islands);
-  void clear() { slots_.clear(); }
 
  private:
   std::unordered_map<int, std::unique_ptr<IslandSlot>> slots_;
