@@ -95,8 +95,7 @@ SolverKind parse_solver(const std::string& name) {
   if (name == "direct") return SolverKind::Direct;
   if (name == "pgs") return SolverKind::Pgs;
   if (name == "substructured") return SolverKind::Substructured;
-  if (name == "newton") return SolverKind::Newton;
-  throw InputError("unknown solver '" + name + "' (direct, pgs, substructured or newton)");
+  throw InputError("unknown solver '" + name + "' (direct, pgs or substructured)");
 }
 
 // Sets one keyword option; `partition_only` for rbpart.partition, which takes no solver options.
@@ -296,7 +295,7 @@ World(scene, parameters=None, **options)
   scene       a built-in scene's name (rbpart.scenes()), a scene file's path, or a dict in the
               scene-file format (docs/formats.md#scene-file)
   parameters  a built-in scene's parameters, {name: value}, over its defaults
-  options     solver ('direct', 'pgs', 'substructured', 'newton'), partitioner ('none', 'bfs',
+  options     solver ('direct', 'pgs', 'substructured'), partitioner ('none', 'bfs',
               'mindp', 'maxdp', 'mr', 'mix', 'metis'), refiner ('none', 'kl', 'fm', 'fm-rollback'),
               dt, and the numeric fields of include/rbpart/params.hpp: erp, slop, sigma_floor,
               contact_margin, threads, max_factorizations, substructured_max_iterations,

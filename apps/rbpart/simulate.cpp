@@ -54,7 +54,6 @@ int run_simulate(const Options& o) {
   SolverParams solver_params = o.solver_params;
   solver_params.kind = o.solver == "pgs"             ? SolverKind::Pgs
                        : o.solver == "substructured" ? SolverKind::Substructured
-                       : o.solver == "newton"        ? SolverKind::Newton
                                                      : SolverKind::Direct;
 
   World world(scene, o.step_params, solver_params, partition_params);
@@ -191,8 +190,9 @@ Run add_simulate(CLI::App& app) {
       ->check(at_least(0));
   cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(open_closed(0, limits::kMaxDt));
   cmd->add_option("--solver", o->solver,
-                  "BLCP solver (substructured needs --partitioner; newton: the one solver under construction)")
-      ->check(CLI::IsMember({"direct", "pgs", "substructured", "newton"}))
+                  "Contact solver: direct (the Newton solver on the whole island), substructured (the same "
+                  "through the partition; needs --partitioner) or pgs (the iterative baseline)")
+      ->check(CLI::IsMember({"direct", "pgs", "substructured"}))
       ->capture_default_str();
   cmd->add_option("--threads", o->solver_params.threads, "Worker threads (0: all cores)")
       ->check(at_least(0))

@@ -5,7 +5,10 @@
 
 namespace rbpart {
 
-enum class SolverKind { Direct, Pgs, Substructured, Newton };
+// Direct: the one contact solver (docs/design.md#contact-problem) on the monolithic backend;
+// Substructured: the same solver on the substructured backend (docs/design.md#substructured), which
+// needs a partitioner; Pgs: projected Gauss-Seidel on the same rows, the iterative baseline.
+enum class SolverKind { Direct, Pgs, Substructured };
 
 struct StepParams {
   // Stabilisation (docs/design.md#dynamics): contact b = (erp/h) min(0, d + slop); joint b = (erp/h) drift.

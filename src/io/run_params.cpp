@@ -12,7 +12,6 @@ const char* solver_name(SolverKind kind) {
     case SolverKind::Direct: return "direct";
     case SolverKind::Pgs: return "pgs";
     case SolverKind::Substructured: return "substructured";
-    case SolverKind::Newton: return "newton";
   }
   return "unknown";
 }

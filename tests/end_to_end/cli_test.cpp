@@ -90,6 +90,13 @@ TEST_F(Cli, UnknownOptionAndBadValues) {
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
   }
+  // The direct solver is the Newton solver: `newton` is no longer a solver of its own.
+  EXPECT_EQ(run("simulate --scene box_stack --solver newton").err,
+            "rbpart: error: --solver: newton not in {direct,pgs,substructured}\n");
+  // Its body-space systems divide by every row's regularisation.
+  const Result r = run("simulate --scene box_stack --sigma-floor 0");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "rbpart: error: the direct and substructured solvers need --sigma-floor > 0\n");
 }
 
 TEST_F(Cli, NumericOptionsNameTheirBound) {
@@ -168,7 +175,7 @@ print("read", len(rows), "rows")
 // The summary names the run's total time, its slowest step and its unsettled steps, as the stats say
 // (one factorisation per island and step leaves most of a landing pile's steps unsettled).
 TEST_F(Cli, SummaryNamesTotalSlowestStepAndUnsettledSteps) {
-  const Result r = run("simulate --scene rock_pile --set rocks=20 --steps 40 --solver newton --max-factorizations 1 "
+  const Result r = run("simulate --scene rock_pile --set rocks=20 --steps 40 --max-factorizations 1 "
                        "--stats " + path("s.csv"));
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream f(path("s.csv"));

@@ -60,20 +60,14 @@ TEST(MonolithicSystem, SolvesEveryKindOfPieceLikeADenseSolve) {
       }
 }
 
-SolverParams newton_params() {
-  SolverParams p;
-  p.kind = SolverKind::Newton;
-  return p;
-}
-
 TEST(SolveNewton, RestingBoxHasTheSymmetricAnalyticImpulses) {
   Scene s;
   add_box(s, 2.0, 0.5, 0.0, 0.5);
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, newton_params());
+  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_EQ(report.unsettled, 0);
   EXPECT_LE(report.residual, kSettledResidual);
-  EXPECT_LE(report.factorizations, newton_params().max_factorizations);
+  EXPECT_LE(report.factorizations, SolverParams{}.max_factorizations);
   // Each corner carries a quarter: -g h + 4 lambda / m + sigma lambda = 0, no friction.
   const double expected = kGravity * kStep / (4 / 2.0 + s.rows.sigma[0]);
   for (std::size_t j = 0; j < s.rows.size(); ++j)
@@ -85,7 +79,7 @@ TEST(SolveNewton, SlidingBoxFeelsCoulombFrictionOnEveryContact) {
   const double m = 3.0, mu = 0.3, vx = 2.0;
   add_box(s, m, 0.4, vx, mu);  // too fast to stop within one step: friction saturates
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, newton_params());
+  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_EQ(report.unsettled, 0);
   EXPECT_LE(report.residual, kSettledResidual);
   for (std::size_t j = 0; j < s.rows.size(); ++j) {
@@ -102,7 +96,7 @@ TEST(SolveNewton, SlidingBoxFeelsCoulombFrictionOnEveryContact) {
 
 TEST(SolveNewton, RestingStackWithMassRatio1000SettlesWithinTheBudgetAndStaysSettledWarm) {
   Scene s = stack(false);
-  SolverParams p = newton_params();
+  SolverParams p;
   const SolveReport cold = solve_newton_direct(s.rows, s.bodies, s.islands, p);
   EXPECT_EQ(cold.unsettled, 0);
   EXPECT_LE(cold.residual, kSettledResidual);
@@ -127,7 +121,7 @@ TEST(SolveNewton, AnUnsettledAnswerIsAdmissible) {
     Scene s = stack(true);
     // A warm start far outside the bounds: pulling normals, friction beyond its box.
     for (std::size_t j = 0; j < s.rows.size(); ++j) s.rows.lambda[j] = s.rows.kind[j] == RowKind::Normal ? -100.0 : 50.0;
-    SolverParams p = newton_params();
+    SolverParams p;
     p.max_factorizations = budget;
     const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, p);
     if (report.unsettled == 0) continue;
@@ -152,7 +146,7 @@ TEST(SolveNewton, ResidualShowsALightBodysErrorBesideAHeavyOne) {
   add_box_on(s, -1, 10000.0, 0.5, 0.0, 0.5);
   add_box_on(s, 0, 1.0, 0.5, 0.05, 0.5);
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, newton_params());
+  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   ASSERT_LE(report.residual, kSettledResidual);
   const std::vector<int> local = local_row_index(s.rows, s.islands);
   IslandSystem system;
