@@ -70,7 +70,7 @@ const std::vector<NumericOption>& numeric_options() {
       {"dt", kDt, false, false, [](RunOptions& o, double x) { o.dt = x; }},
       {"erp", kErp, false, false, [](RunOptions& o, double x) { o.step.erp = x; }},
       {"slop", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.slop = x; }},
-      {"sigma_floor", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.sigma_floor = x; }},
+      {"sigma_floor", kPositive, false, false, [](RunOptions& o, double x) { o.step.sigma_floor = x; }},
       {"contact_margin", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.contact_margin = x; }},
       {"threads", kAtLeastZero, true, false, [](RunOptions& o, double x) { o.solver.threads = int(x); }},
       {"max_factorizations", kPositive, true, false,

@@ -228,7 +228,7 @@ Run add_simulate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sigma-floor", o->step_params.sigma_floor,
                   "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
-      ->check(at_least(0))
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--contact-margin", o->step_params.contact_margin,
                   "Contacts are generated up to this separation (m), handled speculatively")

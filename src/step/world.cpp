@@ -63,9 +63,12 @@ struct World::Impl {
         collider(scene, sp.contact_margin), project(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
-    // The direct and substructured solvers' body-space systems divide by every row's regularisation.
-    if (solver_params.kind != SolverKind::Pgs && !(step_params.sigma_floor > 0))
-      throw InputError("the direct and substructured solvers need --sigma-floor > 0");
+    // The Newton solver's body-space systems divide by every row's regularisation, and it solves the
+    // step (but with PGS) and every position projection.
+    const bool newton = solver_params.kind != SolverKind::Pgs || step_params.joint_projection_iterations > 0;
+    if (newton && !(step_params.sigma_floor > 0))
+      throw InputError("sigma_floor must be positive: the direct solver, which also solves the position projection, "
+                       "divides by every row's regularisation");
     if (solver_params.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(solver_params.threads));
