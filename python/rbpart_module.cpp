@@ -75,16 +75,8 @@ const std::vector<NumericOption>& numeric_options() {
       {"threads", kAtLeastZero, true, false, [](RunOptions& o, double x) { o.solver.threads = int(x); }},
       {"max_factorizations", kPositive, true, false,
        [](RunOptions& o, double x) { o.solver.max_factorizations = int(x); }},
-      {"substructured_max_iterations", kPositive, true, false,
-       [](RunOptions& o, double x) { o.solver.substructured_max_iterations = int(x); }},
-      {"substructured_max_halvings", kAtLeastZero, true, false,
-       [](RunOptions& o, double x) { o.solver.substructured_max_halvings = int(x); }},
       {"pgs_iterations", kPositive, true, false, [](RunOptions& o, double x) { o.solver.pgs_iterations = int(x); }},
       {"pgs_tolerance", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.solver.pgs_tolerance = x; }},
-      {"friction_passes", kPositive, true, false, [](RunOptions& o, double x) { o.solver.friction_passes = int(x); }},
-      {"friction_tolerance", kAtLeastZero, false, false,
-       [](RunOptions& o, double x) { o.solver.friction_tolerance = x; }},
-      {"coupled_paths", kPositive, true, false, [](RunOptions& o, double x) { o.solver.coupled_paths = int(x); }},
       {"nmax", kAtLeastOne, true, true, [](RunOptions& o, double x) { o.partition.nmax = int(x); }},
       {"tau_mr", kAboveOne, false, true, [](RunOptions& o, double x) { o.partition.tau_mr = x; }},
       {"tau_mix", kTauMix, false, true, [](RunOptions& o, double x) { o.partition.tau_mix = x; }}};
@@ -298,9 +290,8 @@ World(scene, parameters=None, **options)
   options     solver ('direct', 'pgs', 'substructured'), partitioner ('none', 'bfs',
               'mindp', 'maxdp', 'mr', 'mix', 'metis'), refiner ('none', 'kl', 'fm', 'fm-rollback'),
               dt, and the numeric fields of include/rbpart/params.hpp: erp, slop, sigma_floor,
-              contact_margin, threads, max_factorizations, substructured_max_iterations,
-              substructured_max_halvings, pgs_iterations, pgs_tolerance, friction_passes,
-              friction_tolerance, coupled_paths, nmax, tau_mr, tau_mix, debug_checks.
+              contact_margin, threads, max_factorizations, pgs_iterations, pgs_tolerance, nmax,
+              tau_mr, tau_mix, debug_checks.
 Arrays are copies, one row per body in scene order (static bodies included).)")
       .def(py::init(&make_world), py::arg("scene"), py::arg("parameters") = py::none())
       .def(

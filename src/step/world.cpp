@@ -184,9 +184,7 @@ struct World::Impl {
   // Solves the step's contact problem and fills the solver's columns of the stats.
   void solve(StepStats& s) {
     SolveReport report;
-    s.loop_iterations = 0;
-    s.factor_ms = s.schur_ms = s.interface_ms = s.subsystem_ms = s.work_ms = s.critical_path_ms = 0;
-    s.fallbacks = 0;
+    s.work_ms = s.critical_path_ms = 0;
     switch (solver_params.kind) {
       case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
       case SolverKind::Direct:
@@ -201,13 +199,11 @@ struct World::Impl {
         break;
       }
     }
-    s.factor_ms = report.factor_ms;
     s.solver_iterations = report.iterations;
-    s.friction_passes = report.friction_passes;
     s.factorizations = report.factorizations;
-    s.fallbacks += report.failures;
     s.unsettled = report.unsettled;
     s.residual = report.residual;
+    s.factor_ms = report.factor_ms;
   }
 
   void integrate() {

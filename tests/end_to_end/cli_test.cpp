@@ -102,7 +102,7 @@ TEST_F(Cli, NumericOptionsNameTheirBound) {
       {"--dt 1e300", "--dt: must lie in (0, 1] (got 1e300)"},
       {"--erp 0", "--erp: must lie in (0, 1] (got 0)"},
       {"--erp 1.5", "--erp: must lie in (0, 1] (got 1.5)"},
-      {"--coupled-paths 0", "--coupled-paths: must be positive (got 0)"},
+      {"--max-factorizations 0", "--max-factorizations: must be positive (got 0)"},
       // The direct solver's body-space systems divide by every row's regularisation.
       {"--sigma-floor 0", "--sigma-floor: must be positive (got 0)"},
       {"--slop nan", "--slop: must be a number (got 'nan')"},
@@ -146,7 +146,7 @@ TEST_F(Cli, StatsHaveTheHeaderOnLineOneEveryColumnAndOneLinePerStep) {
   }
   EXPECT_EQ(data, 5);
   for (const char* col : {"step", "bodies", "contacts", "rows", "parts", "interface_rows", "interface_bodies",
-                          "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "fallback",
+                          "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "factorizations",
                           "blcp_residual", "max_penetration", "kinetic_energy", "unsettled"})
     EXPECT_NE(header.find(col), std::string::npos) << col;
 }
