@@ -63,10 +63,10 @@ struct World::Impl {
         collider(scene, sp.contact_margin), project(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
-    // The Newton solver's body-space systems divide by every row's regularisation, and it solves the
-    // step (but with PGS) and every position projection.
-    const bool newton = solver_params.kind != SolverKind::Pgs || step_params.joint_projection_iterations > 0;
-    if (newton && !(step_params.sigma_floor > 0))
+    // The Newton solver's body-space systems divide by every row's regularisation; it solves the
+    // step of every solver but PGS, and every position projection.
+    const bool newton_runs = solver_params.kind != SolverKind::Pgs || step_params.joint_projection_iterations > 0;
+    if (newton_runs && !(step_params.sigma_floor > 0))
       throw InputError("sigma_floor must be positive: the direct solver, which also solves the position projection, "
                        "divides by every row's regularisation");
     if (solver_params.threads > 0)
