@@ -34,7 +34,7 @@ void run_formed_pile(benchmark::State& state, const std::string& scene, const st
   state.counters["rows"] = rows / n;
   state.counters["contacts"] = contacts / n;
   state.counters["solve_ms"] = solve_ms / n;
-  state.counters["pivot_iters"] = iterations / n;
+  state.counters["iterations"] = iterations / n;
   state.counters["max_penetration_mm"] = 1e3 * penetration;
   state.counters["max_residual"] = residual;
 }

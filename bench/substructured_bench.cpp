@@ -1,19 +1,19 @@
-// The substructured solver (docs/design.md#substructured) against the monolithic direct solver on recorded
-// step problems of formed piles: rock_pile (200 rocks) and large_rock_pile (600 rocks, masses from {10, 100,
-// 1000} kg). Set-up, once per scene and untimed: the scene runs `kFormed` steps with the monolithic direct
-// solver (as `rbpart bench` captures its trajectories, study/capture.hpp), and every 10th of the last 100
-// steps is kept with the warm start the live solve started from, so the problems timed are those a World
-// solves once the pile has landed. The set-up takes about 1 min for rock_pile and 6 min for large_rock_pile
-// (its landing) on one core. Every benchmark iteration solves every recorded problem once, from its warm
-// start.
+// The substructured solver (docs/design.md#substructured: the Newton solver on the substructured
+// backend) against the direct solver (the same solver on the monolithic backend) on recorded step
+// problems of formed piles: rock_pile (200 rocks) and large_rock_pile (600 rocks, masses from {10,
+// 100, 1000} kg). Set-up, once per scene and untimed: the scene runs `kFormed` steps with the direct
+// solver (as `rbpart bench` captures its trajectories, study/capture.hpp), and every 10th of the last
+// 100 steps is kept with the warm start the live solve started from, so the problems timed are those
+// a World solves once the pile has landed. Every benchmark iteration solves every recorded problem
+// once, from its warm start, with no analyses carried over from another solve (as the study replays).
 //
-// Arguments: threads, then for the substructured solver the partitioner (MinDP, or MIX refined by
-// FM) and n_max. Counters, per solve: ms (wall), parts, interface rows and bodies, loop iterations,
-// fallbacks, the share of each phase in the work (summed over threads), work and critical path (ms),
-// and the largest residual. Partitioning is done in the set-up, untimed (it is the partitioners'
-// cost, reported by the stats of a World run).
+// Arguments: threads, and n_max for the substructured solver (MinDP, or MIX refined by FM).
+// Counters, per solve: ms (wall), factorisations, unsettled islands, the largest residual; for the
+// substructured solver also parts, interface rows and bodies, part factorisations, and the work and
+// critical path (ms). Partitioning is done in the set-up, untimed (it is the partitioners' cost,
+// reported by the stats of a World run).
+#include "solve/newton_substructured.hpp"
 #include "solve/solve.hpp"
-#include "solve/substructured.hpp"
 
 #include "core/timer.hpp"
 #include "partition/partition.hpp"
@@ -23,6 +23,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <iterator>
 #include <map>
 #include <string>
@@ -45,23 +46,35 @@ const std::vector<StepProblem>& recorded(Scene scene) {
   return it->second;
 }
 
+// What both solvers report, summed over the solves.
+struct Sums {
+  double ms = 0, factorizations = 0, unsettled = 0, residual = 0;
+  void add(double wall_ms, const SolveReport& r) {
+    ms += wall_ms;
+    factorizations += r.factorizations;
+    unsettled += r.unsettled;
+    residual = std::max(residual, r.residual);
+  }
+  void report(benchmark::State& state, double solves) const {
+    state.counters["ms"] = ms / solves;
+    state.counters["factorizations"] = factorizations / solves;
+    state.counters["unsettled"] = unsettled / solves;
+    state.counters["residual"] = residual;
+  }
+};
+
 void BM_Direct(benchmark::State& state, Scene scene) {
   const std::vector<StepProblem>& problems = recorded(scene);
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(0));
-  double ms = 0, residual = 0, rows = 0;
+  Sums sums;
   for (auto _ : state)
     for (const StepProblem& p : problems) {
       Rows r = p.rows;
       const Timer timer;
-      const SolveReport report = solve_direct(r, p.bodies, p.islands, SolverParams{});
-      ms += timer.ms();
-      residual = std::max(residual, report.residual);
-      rows += static_cast<double>(r.size());
+      const SolveReport report = solve_newton_direct(r, p.bodies, p.islands, SolverParams{});
+      sums.add(timer.ms(), report);
     }
-  const double solves = static_cast<double>(state.iterations()) * problems.size();
-  state.counters["ms"] = ms / solves;
-  state.counters["rows"] = rows / solves;
-  state.counters["residual"] = residual;
+  sums.report(state, static_cast<double>(state.iterations()) * problems.size());
 }
 
 void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind partitioner, RefinerKind refiner) {
@@ -76,47 +89,31 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
     partition_graph(problems[k].graph, pp, partitions[k]);
     refine_partition(problems[k].graph, pp, partitions[k]);
   }
-  SubstructuredReport sum;
-  double ms = 0, residual = 0;
+  Sums sums;
+  NewtonSubstructuredReport sum;
   for (auto _ : state)
     for (std::size_t k = 0; k < problems.size(); ++k) {
       const StepProblem& p = problems[k];
       Rows r = p.rows;
       const Timer timer;
-      const SubstructuredReport report = solve_substructured(r, p.bodies, p.islands, p.graph, partitions[k], SolverParams{});
-      ms += timer.ms();
-      residual = std::max(residual, report.solve.residual);
+      const NewtonSubstructuredReport report =
+          solve_newton_substructured(r, p.bodies, p.islands, p.graph, partitions[k], SolverParams{});
+      sums.add(timer.ms(), report.solve);
       sum.parts += report.parts;
       sum.interface_rows += report.interface_rows;
       sum.interface_bodies += report.interface_bodies;
-      sum.loop_iterations += report.loop_iterations;
-      sum.fallbacks += report.fallbacks;
-      sum.factor_ms += report.factor_ms;
-      sum.schur_ms += report.schur_ms;
-      sum.interface_ms += report.interface_ms;
-      sum.subsystem_ms += report.subsystem_ms;
-      sum.coupled_ms += report.coupled_ms;
-      sum.monolithic_ms += report.monolithic_ms;
+      sum.parts_refactored += report.parts_refactored;
       sum.work_ms += report.work_ms;
       sum.critical_path_ms += report.critical_path_ms;
     }
   const double solves = static_cast<double>(state.iterations()) * problems.size();
-  state.counters["ms"] = ms / solves;
+  sums.report(state, solves);
   state.counters["parts"] = sum.parts / solves;
   state.counters["iface_rows"] = sum.interface_rows / solves;
   state.counters["iface_bodies"] = sum.interface_bodies / solves;
-  state.counters["loops"] = sum.loop_iterations / solves;
-  state.counters["fallbacks"] = sum.fallbacks / solves;
+  state.counters["part_factors"] = sum.parts_refactored / solves;
   state.counters["work_ms"] = sum.work_ms / solves;
   state.counters["critical_ms"] = sum.critical_path_ms / solves;
-  const double work = std::max(sum.work_ms, 1e-300);
-  state.counters["factor%"] = 100 * sum.factor_ms / work;
-  state.counters["schur%"] = 100 * sum.schur_ms / work;
-  state.counters["iface%"] = 100 * sum.interface_ms / work;
-  state.counters["sub%"] = 100 * sum.subsystem_ms / work;
-  state.counters["coupled%"] = 100 * sum.coupled_ms / work;
-  state.counters["mono%"] = 100 * sum.monolithic_ms / work;
-  state.counters["residual"] = residual;
 }
 
 void direct_args(benchmark::internal::Benchmark* b) {

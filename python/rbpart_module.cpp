@@ -70,21 +70,13 @@ const std::vector<NumericOption>& numeric_options() {
       {"dt", kDt, false, false, [](RunOptions& o, double x) { o.dt = x; }},
       {"erp", kErp, false, false, [](RunOptions& o, double x) { o.step.erp = x; }},
       {"slop", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.slop = x; }},
-      {"sigma_floor", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.sigma_floor = x; }},
+      {"sigma_floor", kPositive, false, false, [](RunOptions& o, double x) { o.step.sigma_floor = x; }},
       {"contact_margin", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.contact_margin = x; }},
       {"threads", kAtLeastZero, true, false, [](RunOptions& o, double x) { o.solver.threads = int(x); }},
       {"max_factorizations", kPositive, true, false,
        [](RunOptions& o, double x) { o.solver.max_factorizations = int(x); }},
-      {"substructured_max_iterations", kPositive, true, false,
-       [](RunOptions& o, double x) { o.solver.substructured_max_iterations = int(x); }},
-      {"substructured_max_halvings", kAtLeastZero, true, false,
-       [](RunOptions& o, double x) { o.solver.substructured_max_halvings = int(x); }},
       {"pgs_iterations", kPositive, true, false, [](RunOptions& o, double x) { o.solver.pgs_iterations = int(x); }},
       {"pgs_tolerance", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.solver.pgs_tolerance = x; }},
-      {"friction_passes", kPositive, true, false, [](RunOptions& o, double x) { o.solver.friction_passes = int(x); }},
-      {"friction_tolerance", kAtLeastZero, false, false,
-       [](RunOptions& o, double x) { o.solver.friction_tolerance = x; }},
-      {"coupled_paths", kPositive, true, false, [](RunOptions& o, double x) { o.solver.coupled_paths = int(x); }},
       {"nmax", kAtLeastOne, true, true, [](RunOptions& o, double x) { o.partition.nmax = int(x); }},
       {"tau_mr", kAboveOne, false, true, [](RunOptions& o, double x) { o.partition.tau_mr = x; }},
       {"tau_mix", kTauMix, false, true, [](RunOptions& o, double x) { o.partition.tau_mix = x; }}};
@@ -95,8 +87,7 @@ SolverKind parse_solver(const std::string& name) {
   if (name == "direct") return SolverKind::Direct;
   if (name == "pgs") return SolverKind::Pgs;
   if (name == "substructured") return SolverKind::Substructured;
-  if (name == "newton") return SolverKind::Newton;
-  throw InputError("unknown solver '" + name + "' (direct, pgs, substructured or newton)");
+  throw InputError("unknown solver '" + name + "' (direct, pgs or substructured)");
 }
 
 // Sets one keyword option; `partition_only` for rbpart.partition, which takes no solver options.
@@ -296,12 +287,11 @@ World(scene, parameters=None, **options)
   scene       a built-in scene's name (rbpart.scenes()), a scene file's path, or a dict in the
               scene-file format (docs/formats.md#scene-file)
   parameters  a built-in scene's parameters, {name: value}, over its defaults
-  options     solver ('direct', 'pgs', 'substructured', 'newton'), partitioner ('none', 'bfs',
+  options     solver ('direct', 'pgs', 'substructured'), partitioner ('none', 'bfs',
               'mindp', 'maxdp', 'mr', 'mix', 'metis'), refiner ('none', 'kl', 'fm', 'fm-rollback'),
               dt, and the numeric fields of include/rbpart/params.hpp: erp, slop, sigma_floor,
-              contact_margin, threads, max_factorizations, substructured_max_iterations,
-              substructured_max_halvings, pgs_iterations, pgs_tolerance, friction_passes,
-              friction_tolerance, coupled_paths, nmax, tau_mr, tau_mix, debug_checks.
+              contact_margin, threads, max_factorizations, pgs_iterations, pgs_tolerance, nmax,
+              tau_mr, tau_mix, debug_checks.
 Arrays are copies, one row per body in scene order (static bodies included).)")
       .def(py::init(&make_world), py::arg("scene"), py::arg("parameters") = py::none())
       .def(

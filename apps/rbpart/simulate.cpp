@@ -54,7 +54,6 @@ int run_simulate(const Options& o) {
   SolverParams solver_params = o.solver_params;
   solver_params.kind = o.solver == "pgs"             ? SolverKind::Pgs
                        : o.solver == "substructured" ? SolverKind::Substructured
-                       : o.solver == "newton"        ? SolverKind::Newton
                                                      : SolverKind::Direct;
 
   World world(scene, o.step_params, solver_params, partition_params);
@@ -94,8 +93,8 @@ int run_simulate(const Options& o) {
 
   std::vector<double> total_ms, solve_ms;
   double max_penetration = 0, max_residual = 0;
-  int fallbacks = 0, unsettled_steps = 0, last_unsettled = 0, slowest = 0;
-  long loop_iterations = 0;
+  int unsettled_steps = 0, last_unsettled = 0, slowest = 0;
+  double work_ms = 0, critical_path_ms = 0;
   Progress progress("simulate " + scene.name, steps);
   const Timer run_timer;
   // Ctrl-C or SIGTERM ends the run after the step under way; the steps done are kept (below).
@@ -116,8 +115,8 @@ int run_simulate(const Options& o) {
     solve_ms.push_back(s.profile.solve_ms);
     max_penetration = std::max(max_penetration, s.max_penetration);
     max_residual = std::max(max_residual, s.residual);
-    fallbacks += s.fallbacks;
-    loop_iterations += s.loop_iterations;
+    work_ms += s.work_ms;
+    critical_path_ms += s.critical_path_ms;
     if (s.unsettled > 0) {
       ++unsettled_steps;
       last_unsettled = s.step;
@@ -160,10 +159,9 @@ int run_simulate(const Options& o) {
       std::printf("unsettled steps: %d of %d, the last at step %d\n", unsettled_steps, steps, last_unsettled);
     else
       std::printf("unsettled steps: none\n");
-    std::printf("max penetration %.3g m; max BLCP residual %.3g; fallbacks %d\n", max_penetration, max_residual,
-                fallbacks);
+    std::printf("max penetration %.3g m; max BLCP residual %.3g\n", max_penetration, max_residual);
     if (solver_params.kind == SolverKind::Substructured)
-      std::printf("substructured loop: %.2f iterations per step\n", steps ? double(loop_iterations) / steps : 0.0);
+      std::printf("substructured solve: work %.3g s, critical path %.3g s\n", work_ms / 1000, critical_path_ms / 1000);
     const ConstraintGraph& g = world_graph(world);
     WeightSum max_degree = 0, total_degree = 0;
     for (int i = 0; i < g.node_count(); ++i) {
@@ -191,23 +189,16 @@ Run add_simulate(CLI::App& app) {
       ->check(at_least(0));
   cmd->add_option("--dt", o->dt, "Time step in seconds (default: the scene's)")->check(open_closed(0, limits::kMaxDt));
   cmd->add_option("--solver", o->solver,
-                  "BLCP solver (substructured needs --partitioner; newton: the one solver under construction)")
-      ->check(CLI::IsMember({"direct", "pgs", "substructured", "newton"}))
+                  "Contact solver: direct (the Newton solver on the whole island), substructured (the same "
+                  "through the partition; needs --partitioner) or pgs (the iterative baseline)")
+      ->check(CLI::IsMember({"direct", "pgs", "substructured"}))
       ->capture_default_str();
   cmd->add_option("--threads", o->solver_params.threads, "Worker threads (0: all cores)")
       ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--max-factorizations", o->solver_params.max_factorizations,
-                  "Newton solver: factorisations per island and step (the budget)")
+                  "Direct and substructured solvers: factorisations per island and step (the budget)")
       ->check(positive())
-      ->capture_default_str();
-  cmd->add_option("--sub-iterations", o->solver_params.substructured_max_iterations,
-                  "Substructured: interface/sub-system iterations before the monolithic fallback")
-      ->check(positive())
-      ->capture_default_str();
-  cmd->add_option("--sub-halvings", o->solver_params.substructured_max_halvings,
-                  "Substructured: halved safeguard steps per BLCP before the monolithic fallback")
-      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--pgs-iterations", o->solver_params.pgs_iterations, "PGS sweeps per step")
       ->check(positive())
@@ -215,20 +206,9 @@ Run add_simulate(CLI::App& app) {
   cmd->add_option("--pgs-tolerance", o->solver_params.pgs_tolerance, "PGS stops when impulses change less")
       ->check(at_least(0))
       ->capture_default_str();
-  cmd->add_option("--friction-passes", o->solver_params.friction_passes, "Outer passes for friction bounds")
-      ->check(positive())
-      ->capture_default_str();
-  cmd->add_option("--coupled-paths", o->solver_params.coupled_paths,
-                  "Warm paths of the coupled friction step on islands of 3000+ rows")
-      ->check(positive())
-      ->capture_default_str();
-  cmd->add_option("--friction-tolerance", o->solver_params.friction_tolerance,
-                  "Relative change of normal impulses that ends the friction passes")
-      ->check(at_least(0))
-      ->capture_default_str();
   cmd->add_option("--sigma-floor", o->step_params.sigma_floor,
                   "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
-      ->check(at_least(0))
+      ->check(positive())
       ->capture_default_str();
   cmd->add_option("--contact-margin", o->step_params.contact_margin,
                   "Contacts are generated up to this separation (m), handled speculatively")

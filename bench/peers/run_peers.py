@@ -37,7 +37,7 @@ SCENES["stack_1_1000"] = ("box_stack", ["boxes=10", "mass_even=1", "mass_odd=100
 SCENES["chain_100x"] = ("chain_drop", ["end_ratio=100", "dt=0.01"])
 
 # (engine, solver, label). rbpart runs through its CLI, the peers through rbpart_peers.
-RUNS = [("rbpart", "direct", "rbpart direct"), ("rbpart", "newton", "rbpart newton"), ("rbpart", "pgs", "rbpart PGS"),
+RUNS = [("rbpart", "direct", "rbpart direct"), ("rbpart", "pgs", "rbpart PGS"),
         ("ode", "dantzig", "ODE dWorldStep (Dantzig)"), ("ode", "quickstep", "ODE dWorldQuickStep (PGS)"),
         ("bullet", "si", "Bullet sequential impulse"), ("bullet", "mlcp", "Bullet MLCP (Dantzig)"),
         ("mujoco", "newton", "MuJoCo Newton"), ("mujoco", "pgs", "MuJoCo PGS")]

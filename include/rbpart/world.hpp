@@ -27,26 +27,19 @@ struct StepStats {
   int interface_rows = 0;
   int interface_bodies = 0;
   int edge_cut = 0;
-  int solver_iterations = 0;
-  int friction_passes = 0;
-  int factorizations = 0;
-  // Islands the solver could not finish within its caps; for the substructured solver also the
-  // islands it handed to the monolithic solve after its iteration cap (docs/design.md#substructured).
-  int fallbacks = 0;
-  // Islands whose friction loop (docs/design.md#contact-problem) ended above its tolerance: approximate
+  int solver_iterations = 0;  // Newton steps or PGS sweeps, summed over islands
+  int factorizations = 0;     // summed over islands
+  // Islands whose answer ended above the residual 1e-9 (docs/design.md#contact-problem): approximate
   // impulses.
   int unsettled = 0;
-  double residual = 0;       // scaled natural-map residual of the step's BLCP
+  double residual = 0;       // scaled natural-map residual of the step's contact problem
   double max_penetration = 0;  // m, deepest contact after collision
   double kinetic_energy = 0;   // J, after the step
   StepProfile profile;
-  // Substructured solver only (0 otherwise): iterations of docs/design.md#substructured's
-  // interface/sub-system loop, and the solve's work per phase summed over threads and islands (ms):
-  // factorisations, Schur complement (effective inverse masses, S and q~), interface BLCPs, sub-system BLCPs;
-  // all work including set-up, monolithic one-part islands and fallbacks; and the critical path (each
-  // parallel section replaced by its slowest part), which bounds the solve time on many cores.
-  int loop_iterations = 0;
-  double factor_ms = 0, schur_ms = 0, interface_ms = 0, subsystem_ms = 0, work_ms = 0, critical_path_ms = 0;
+  // The solve's time in factorisations, summed over threads and islands (ms); for the substructured
+  // solver also all its work summed over threads and islands, and its critical path (each parallel
+  // phase replaced by its slowest part), which bounds the solve time on many cores (0 otherwise).
+  double factor_ms = 0, work_ms = 0, critical_path_ms = 0;
 };
 
 // One body's state (docs/formats.md#state-file): the pose of its shape frame, as a BodyDef gives it,

@@ -44,14 +44,12 @@ const StatField kStatFields[] = {
     {"project_ms", [](const StepStats& s) { return s.profile.project_ms; }},
     {"total_ms", [](const StepStats& s) { return s.profile.total_ms; }},
     {"solver_iterations", [](const StepStats& s) -> double { return s.solver_iterations; }},
-    {"friction_passes", [](const StepStats& s) -> double { return s.friction_passes; }},
     {"factorizations", [](const StepStats& s) -> double { return s.factorizations; }},
-    {"fallback", [](const StepStats& s) -> double { return s.fallbacks; }},
     {"blcp_residual", [](const StepStats& s) { return s.residual; }},
     {"max_penetration", [](const StepStats& s) { return s.max_penetration; }},
     {"kinetic_energy", [](const StepStats& s) { return s.kinetic_energy; }},
-    {"loop_iterations", [](const StepStats& s) -> double { return s.loop_iterations; }},
     {"critical_path_ms", [](const StepStats& s) { return s.critical_path_ms; }},
+    {"unsettled", [](const StepStats& s) -> double { return s.unsettled; }},
 };
 
 enum ShapeCode : std::uint8_t { kSphere = 0, kBox = 1, kCapsule = 2, kCylinder = 3, kConvex = 4 };

@@ -12,7 +12,6 @@ const char* solver_name(SolverKind kind) {
     case SolverKind::Direct: return "direct";
     case SolverKind::Pgs: return "pgs";
     case SolverKind::Substructured: return "substructured";
-    case SolverKind::Newton: return "newton";
   }
   return "unknown";
 }
@@ -35,16 +34,8 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"solver", solver_name(solver.kind)},
       {"max_factorizations", integer(solver.max_factorizations)},
       {"dense_max_bodies", integer(solver.dense_max_bodies)},
-      {"dense_max_rows", integer(solver.dense_max_rows)},
-      {"max_pivot_iterations", integer(solver.max_pivot_iterations)},
-      {"murty_after", integer(solver.murty_after)},
-      {"friction_passes", integer(solver.friction_passes)},
-      {"friction_tolerance", real(solver.friction_tolerance)},
-      {"coupled_paths", integer(solver.coupled_paths)},
       {"pgs_iterations", integer(solver.pgs_iterations)},
       {"pgs_tolerance", real(solver.pgs_tolerance)},
-      {"substructured_max_iterations", integer(solver.substructured_max_iterations)},
-      {"substructured_max_halvings", integer(solver.substructured_max_halvings)},
       {"threads", integer(solver.threads)},
   };
 }

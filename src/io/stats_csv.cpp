@@ -46,10 +46,9 @@ std::array<double, StatsCsvWriter::kColumns.size()> StatsCsvWriter::values(const
   const StepProfile& p = s.profile;
   return {double(s.step), double(s.bodies), double(s.contacts), double(s.rows), double(s.islands), double(s.parts),
           double(s.interface_rows), double(s.interface_bodies), double(s.edge_cut), p.collide_ms, p.assemble_ms,
-          p.graph_ms, p.partition_ms, p.refine_ms, p.solve_ms, p.integrate_ms, p.project_ms, p.total_ms, double(s.solver_iterations),
-          double(s.friction_passes), double(s.factorizations), double(s.fallbacks), s.residual, s.max_penetration,
-          s.kinetic_energy, double(s.loop_iterations), s.factor_ms, s.schur_ms, s.interface_ms, s.subsystem_ms,
-          s.work_ms, s.critical_path_ms, double(s.unsettled)};
+          p.graph_ms, p.partition_ms, p.refine_ms, p.solve_ms, p.integrate_ms, p.project_ms, p.total_ms,
+          double(s.solver_iterations), double(s.factorizations), s.residual, s.max_penetration, s.kinetic_energy,
+          s.factor_ms, s.work_ms, s.critical_path_ms, double(s.unsettled)};
 }
 
 StatsCsvWriter::ColumnKind StatsCsvWriter::column_kind(std::size_t column) {

@@ -18,12 +18,11 @@ namespace rbpart {
 class StatsCsvWriter {
  public:
   // The columns, in file order; names follow the StepStats / StepProfile fields.
-  static constexpr std::array<const char*, 33> kColumns = {
+  static constexpr std::array<const char*, 27> kColumns = {
       "step", "bodies", "contacts", "rows", "islands", "parts", "interface_rows", "interface_bodies",
       "edge_cut", "collide_ms", "assemble_ms", "graph_ms", "partition_ms", "refine_ms", "solve_ms",
-      "integrate_ms", "project_ms", "total_ms", "solver_iterations", "friction_passes", "factorizations", "fallback",
-      "blcp_residual", "max_penetration", "kinetic_energy", "loop_iterations", "factor_ms", "schur_ms",
-      "interface_ms", "subsystem_ms", "work_ms", "critical_path_ms", "unsettled"};
+      "integrate_ms", "project_ms", "total_ms", "solver_iterations", "factorizations", "blcp_residual",
+      "max_penetration", "kinetic_energy", "factor_ms", "work_ms", "critical_path_ms", "unsettled"};
 
   // A step's value of every column, in kColumns order (as numbers, before the file's formatting),
   // and what each column holds: counts, wall times (the "_ms" columns) or physical quantities.

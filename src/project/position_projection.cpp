@@ -57,7 +57,7 @@ double PositionProjection::project(const std::vector<JointFrame>& joints, const 
       rows_.sigma[r] = params.sigma_floor * row_diagonal(rows_, static_cast<int>(r), bodies);
 
     build_islands(rows_, bodies.size(), islands_);
-    solve_direct(rows_, bodies, islands_, solver);
+    solve_newton_direct(rows_, bodies, islands_, solver, &island_cache_);
 
     // Move every body by M^-1 J^T delta: translation, and rotation by the small angle it gives.
     std::vector<Vec6>& du = du_;

@@ -9,7 +9,7 @@
 // So after the positions are integrated, when the project stage asks for it (project.hpp), the
 // contacts are found again at the new poses and both errors are projected out with the mass
 // metric, x += M^-1 J^T delta (velocities untouched: no kinetic energy is added). Each
-// Gauss-Newton step is a BLCP solved by the monolithic direct solver:
+// Gauss-Newton step is a BLCP solved by the direct solver (solve_newton_direct):
 //   rigid joint rows: (A delta + phi)_j = 0,                       delta_j free
 //   contact rows:     w_c = (A delta)_c + s(d_c) >= 0,              delta_c >= 0, w_c delta_c = 0
 //                     s(d) = max(d, 0) + min(0, d + depth)
@@ -29,6 +29,7 @@
 #include "collision/collide.hpp"
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
+#include "solve/island_cache.hpp"
 
 namespace rbpart {
 
@@ -44,6 +45,8 @@ class PositionProjection {
  private:
   Rows joint_rows_, contact_rows_, rows_;
   Islands islands_;
+  // The solves' analyses and buffers: a projection's steps share their rows' pattern.
+  IslandCache island_cache_;
   std::vector<Vec6> move_, du_;  // per body: the projection so far, and this step's move
 };
 

@@ -91,20 +91,6 @@ std::vector<int> local_row_index(const Rows& rows, const Islands& islands) {
   return local;
 }
 
-LowerCsc LowerCsc::from_dense(const Eigen::MatrixXd& a) {
-  LowerCsc m;
-  m.n = static_cast<int>(a.rows());
-  for (int c = 0; c < m.n; ++c) {
-    for (int r = c; r < m.n; ++r)
-      if (a(r, c) != 0.0 || r == c) {
-        m.rowind.push_back(r);
-        m.values.push_back(a(r, c));
-      }
-    m.colptr.push_back(static_cast<int>(m.rowind.size()));
-  }
-  return m;
-}
-
 void build_dense(const IslandSystem& s, Eigen::MatrixXd& a) {
   a.setZero(s.rows, s.rows);
   // A = J M^-1 J^T body by body: every pair of row slots on the same body, lower triangle.
@@ -118,41 +104,6 @@ void build_dense(const IslandSystem& s, Eigen::MatrixXd& a) {
     }
   a.diagonal() += s.sigma;
   a.triangularView<Eigen::StrictlyUpper>() = a.transpose();
-}
-
-void build_lower_csc(const IslandSystem& s, LowerCsc& a) {
-  a.n = s.rows;
-  a.colptr.assign(1, 0);
-  a.rowind.clear();
-  a.values.clear();
-  std::vector<int> where(s.rows, -1);  // entry of row j in the current column, -1 if none yet
-  std::vector<std::pair<int, double>> column;
-  for (int k = 0; k < s.rows; ++k) {
-    // Rows j >= k sharing a body with row k; two shared bodies add into one entry.
-    column.clear();
-    for (int sk = 0; sk < 2; ++sk) {
-      const int b = s.body[k][sk];
-      if (b < 0) continue;
-      for (int e = s.body_slot_offset[b]; e < s.body_slot_offset[b + 1]; ++e) {
-        const int j = s.body_slots[e] >> 1, sj = s.body_slots[e] & 1;
-        if (j < k) continue;
-        const double v = s.jac[j][sj].dot(s.mjac[k][sk]);
-        if (where[j] < 0) {
-          where[j] = static_cast<int>(column.size());
-          column.emplace_back(j, v);
-        } else {
-          column[where[j]].second += v;
-        }
-      }
-    }
-    std::sort(column.begin(), column.end());
-    for (const auto& [j, v] : column) {
-      where[j] = -1;
-      a.rowind.push_back(j);
-      a.values.push_back(j == k ? v + s.sigma[k] : v);
-    }
-    a.colptr.push_back(static_cast<int>(a.rowind.size()));
-  }
 }
 
 std::vector<Mat6> body_masses(const IslandSystem& s) {

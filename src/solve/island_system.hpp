@@ -1,8 +1,8 @@
 #pragma once
 // One island's BLCP in local numbering (DESIGN.md §2-3): rows 0..rows-1 in the island's row order,
 // bodies 0..bodies-1 in its body order. Holds J and M^-1 J^T per row slot, so that A is never
-// needed explicitly for products: A x = Sigma x + J (M^-1 J^T x). Shared by the direct solver (which
-// builds A or its body-space form from it), PGS and the residual.
+// needed explicitly for products: A x = Sigma x + J (M^-1 J^T x). Shared by the Newton solver and
+// its backends (which build the body-space systems from it), PGS and the residual.
 #include "assembly/rows.hpp"
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
@@ -40,17 +40,8 @@ struct IslandSystem {
   FrictionCoupling coupling() const { return {&normal_of, &mu}; }
 };
 
-// Lower triangle (diagonal included) of a symmetric matrix, compressed by column, rows sorted.
-struct LowerCsc {
-  int n = 0;
-  std::vector<int> colptr{0}, rowind;
-  std::vector<double> values;
-  static LowerCsc from_dense(const Eigen::MatrixXd& a);
-};
-
-// A of an island: dense (both triangles) or its lower triangle.
+// A of an island, dense (both triangles): a reference for tests.
 void build_dense(const IslandSystem& s, Eigen::MatrixXd& a);
-void build_lower_csc(const IslandSystem& s, LowerCsc& a);
 
 // Island indices by decreasing row count (ties by index), so that one big island does not start
 // last on a busy thread when islands are solved in parallel.

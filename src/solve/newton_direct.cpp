@@ -1,5 +1,5 @@
-// The Newton solver (newton.hpp, DESIGN.md §3) on the monolithic backend (monolithic.hpp), per
-// island, islands in parallel: `--solver newton`.
+// The direct solver: the Newton solver (newton.hpp, DESIGN.md §3) on the monolithic backend
+// (monolithic.hpp), per island, islands in parallel: `--solver direct`.
 #include "solve/solve.hpp"
 
 #include "solve/island_cache.hpp"

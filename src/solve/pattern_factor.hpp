@@ -25,7 +25,7 @@ class PatternFactor {
   // The same pattern with values of another kind (the island's next step): the CHOLMOD and KLU
   // analyses are kept, but KLU's next LU searches its pivots afresh. Within a Newton solve KLU
   // refactors with the first LU's pivots; reused from the step before they left far more steps
-  // unsettled (Rock Pile, --solver newton: 462 against 91 of 500).
+  // unsettled (Rock Pile, --solver direct: 462 against 91 of 500).
   void keep_pattern();
 
   int size() const { return n_; }

@@ -1,12 +1,12 @@
 #pragma once
-// Random BLCPs for the solve tests and bench/blcp_bench.cpp (fixed seeds), as graph/generate.hpp
-// gives graphs to the partition tests and benchmarks.
-// - random_contact_island: an island built like the assembly stage builds one (DESIGN.md §2):
-//   bodies with random masses and inertias, contacts (a normal row [0, inf) and two friction rows)
-//   between two bodies or against a static body, bilateral joint rows, and a few general box rows,
-//   with A = J M^-1 J^T + Sigma, sigma a 1e-6 floor of the diagonal (rigid) or compliant. With more
-//   rows than 6 * bodies it is redundant, as contact piles are.
-// - random_dense_blcp: a dense SPD A with mixed bounds.
+// Random contact problems for the solve tests and bench/newton_island_bench.cpp (fixed seeds), as
+// graph/generate.hpp gives graphs to the partition tests and benchmarks: an island built like the
+// assembly stage builds one (DESIGN.md §2), bodies with random masses and inertias, contacts (a
+// normal row [0, inf) and two friction rows, coupled to it) between two bodies or against a static
+// body, bilateral joint rows, and a few general box rows, with A = J M^-1 J^T + Sigma, sigma a 1e-6
+// floor of the diagonal (rigid) or compliant. With more rows than 6 * bodies it is redundant, as
+// contact piles are; with many contacts on one or two bodies (random normals, mu up to 0.8) it is
+// harder than a pile's islands.
 #include "solve/island_system.hpp"
 
 #include "assembly/rows.hpp"
@@ -16,12 +16,9 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <limits>
 #include <random>
 
 namespace rbpart::testing {
-
-inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct RandomIsland {
   Rows rows;
@@ -38,9 +35,11 @@ struct IslandOptions {
   double joint_fraction = 0.15;    // bilateral rows
   double box_fraction = 0.1;       // general box rows [lo, hi] (may exclude 0)
   double compliant_fraction = 0.1; // rows with sigma = 1e-2 of the diagonal instead of the 1e-6 floor
-  double friction_box = 1.0;       // fixed bounds +-friction_box * U(0,1) for friction rows
   double q_consistent = 0.7;       // fraction of q = J v + noise (a feasible target) vs pure noise
   double neighbour_radius = 1.5;   // bodies sit on a unit lattice; 1.5 joins diagonal neighbours too
+  // Friction rows bounded by +-mu lambda_n of their normal; false: by fixed boxes +-U(0, 1), which
+  // makes the problem a strictly convex box QP (DESIGN.md §3, fixed bounds).
+  bool coupled_friction = true;
 };
 
 // Entries uniform in [-1, 1] from `rng` (Eigen's Random() draws from std::rand, not from the seed).
@@ -162,46 +161,20 @@ inline void random_contact_island(std::mt19937& rng, const IslandOptions& opt, R
         const int rt = rows.add(RowKind::Friction, a, c, key++);
         jacobian(rt, c, t, ra, rc);
         finish_row(rt, sigma_scale);
-        rows.normal_of[rt] = rn;
-        rows.mu[rt] = mu;
-        const double bound = opt.friction_box * u01(rng);
-        rows.lo[rt] = -bound;
-        rows.hi[rt] = bound;
+        if (opt.coupled_friction) {
+          rows.normal_of[rt] = rn;
+          rows.mu[rt] = mu;
+        } else {
+          const double bound = u01(rng);
+          rows.lo[rt] = -bound;
+          rows.hi[rt] = bound;
+        }
       }
     }
   }
   build_islands(rows, nb, out.islands);
   out.local_row = local_row_index(rows, out.islands);
   out.system.gather(rows, b, out.islands, 0, out.local_row);
-}
-
-// Dense SPD A = B B^T + delta I with rows of mixed bounds: one-sided [0, inf), bilateral, box
-// [lo, hi] (possibly excluding 0), upper-only (-inf, hi], and fixed lo == hi.
-struct DenseBlcp {
-  Eigen::MatrixXd a;
-  Eigen::VectorXd q, lo, hi;
-};
-
-inline DenseBlcp random_dense_blcp(std::mt19937& rng, int n) {
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
-  DenseBlcp p;
-  const int rank = std::max(1, static_cast<int>(n * (0.5 + u01(rng))));
-  const Eigen::MatrixXd b = uniform_matrix(rng, n, rank);
-  p.a = b * b.transpose() / rank;
-  p.a.diagonal().array() += std::pow(10.0, -6 + 6 * u01(rng));  // from near-singular to well conditioned
-  p.q = uniform_matrix(rng, n, 1);
-  p.lo.resize(n);
-  p.hi.resize(n);
-  for (int j = 0; j < n; ++j) {
-    const double kind = u01(rng);
-    const double x = 2 * u01(rng) - 1, y = 2 * u01(rng) - 1;
-    if (kind < 0.35) { p.lo[j] = 0; p.hi[j] = kInf; }
-    else if (kind < 0.55) { p.lo[j] = -kInf; p.hi[j] = kInf; }
-    else if (kind < 0.85) { p.lo[j] = std::min(x, y); p.hi[j] = std::max(x, y); }
-    else if (kind < 0.95) { p.lo[j] = -kInf; p.hi[j] = x; }
-    else { p.lo[j] = p.hi[j] = x; }
-  }
-  return p;
 }
 
 }  // namespace rbpart::testing

@@ -46,12 +46,6 @@ double island_residual(IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::Ve
   return scaled_natural_map_residual(lambda, w, s.diag, s.lo, s.hi, s.q);
 }
 
-double natural_map_residual(const Eigen::MatrixXd& a, const Eigen::VectorXd& q, const Eigen::VectorXd& lo,
-                            const Eigen::VectorXd& hi, const Eigen::VectorXd& lambda) {
-  const Eigen::VectorXd w = a * lambda + q;
-  return scaled_natural_map_residual(lambda, w, a.diagonal(), lo, hi, q);
-}
-
 double natural_map_residual(const Rows& rows, const Bodies& bodies, const Islands& islands) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<double> residual(islands.count(), 0.0);

@@ -28,8 +28,4 @@ void store_island_solution(const IslandSystem& s, const Eigen::VectorXd& lambda,
 // impulses (written into s.lo/s.hi), w = A lambda + q afresh from J and M^-1 J^T. du, w: scratch.
 double island_residual(IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, Eigen::VectorXd& w);
 
-// For an explicit (A, q, lo, hi, lambda).
-double natural_map_residual(const Eigen::MatrixXd& a, const Eigen::VectorXd& q, const Eigen::VectorXd& lo,
-                            const Eigen::VectorXd& hi, const Eigen::VectorXd& lambda);
-
 }  // namespace rbpart

@@ -21,7 +21,7 @@ static Eigen::Map<const Eigen::SparseMatrix<double>> eigen_view(const CscView& a
 
 // Debian's CHOLMOD is built with OpenMP and a fixed team size: each supernode's assembly wakes the
 // team, and on these small factors the wake-ups (futex calls) cost more than they save - a third
-// of the direct solver's time on a forming 100-rock pile (perf) - and they compete with the TBB
+// of the solve on a forming 100-rock pile (perf, with an earlier solver) - and they compete with the TBB
 // workers that already run islands and sub-systems in parallel. So its parallel regions get one
 // thread, and so does a threaded OpenBLAS.
 //

@@ -24,8 +24,8 @@
 #include "scene/bodies.hpp"
 #include "scene/mass_properties.hpp"
 #include "solve/island_cache.hpp"
+#include "solve/newton_substructured.hpp"
 #include "solve/solve.hpp"
-#include "solve/substructured.hpp"
 #include "step/world_internals.hpp"
 
 namespace rbpart {
@@ -46,7 +46,7 @@ struct World::Impl {
   WarmStart warm;
   ProjectStage project;
   Islands islands;
-  IslandCache island_cache;  // the Newton solver's per-island analyses and buffers, step to step
+  IslandCache island_cache;  // the direct solver's per-island analyses and buffers, step to step
   ConstraintGraph graph_;
   Partition partition_;
   StepStats stats;
@@ -63,9 +63,12 @@ struct World::Impl {
         collider(scene, sp.contact_margin), project(scene, sp.contact_margin) {
     if (solver_params.kind == SolverKind::Substructured && partition_params.partitioner == PartitionerKind::None)
       throw InputError("the substructured solver needs a partitioner (bfs, mindp, maxdp, mr, mix or metis)");
-    // The Newton solver's body-space systems divide by every row's regularisation.
-    if (solver_params.kind == SolverKind::Newton && !(step_params.sigma_floor > 0))
-      throw InputError("the newton solver needs --sigma-floor > 0");
+    // The Newton solver's body-space systems divide by every row's regularisation; it solves the
+    // step of every solver but PGS, and every position projection.
+    const bool newton_runs = solver_params.kind != SolverKind::Pgs || step_params.joint_projection_iterations > 0;
+    if (newton_runs && !(step_params.sigma_floor > 0))
+      throw InputError("sigma_floor must be positive: the direct solver, which also solves the position projection, "
+                       "divides by every row's regularisation");
     if (solver_params.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(solver_params.threads));
@@ -178,40 +181,29 @@ struct World::Impl {
       throw std::logic_error(std::string(stage) + " stage at step " + std::to_string(steps + 1) + ": " + violation);
   }
 
-  // Solves the step's BLCP and fills the solver's columns of the stats.
+  // Solves the step's contact problem and fills the solver's columns of the stats.
   void solve(StepStats& s) {
     SolveReport report;
-    s.loop_iterations = 0;
-    s.factor_ms = s.schur_ms = s.interface_ms = s.subsystem_ms = s.work_ms = s.critical_path_ms = 0;
-    s.fallbacks = 0;
+    s.work_ms = s.critical_path_ms = 0;
     switch (solver_params.kind) {
       case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
-      case SolverKind::Direct: report = solve_direct(rows, bodies, islands, solver_params); break;
-      case SolverKind::Newton:
+      case SolverKind::Direct:
         report = solve_newton_direct(rows, bodies, islands, solver_params, &island_cache);
-        s.factor_ms = report.factor_ms;
         break;
       case SolverKind::Substructured: {
-        const SubstructuredReport sub =
-            solve_substructured(rows, bodies, islands, graph_, partition_, solver_params);
+        const NewtonSubstructuredReport sub =
+            solve_newton_substructured(rows, bodies, islands, graph_, partition_, solver_params);
         report = sub.solve;
-        s.loop_iterations = sub.loop_iterations;
-        s.fallbacks = sub.fallbacks;
-        s.factor_ms = sub.factor_ms;
-        s.schur_ms = sub.schur_ms;
-        s.interface_ms = sub.interface_ms;
-        s.subsystem_ms = sub.subsystem_ms;
         s.work_ms = sub.work_ms;
         s.critical_path_ms = sub.critical_path_ms;
         break;
       }
     }
     s.solver_iterations = report.iterations;
-    s.friction_passes = report.friction_passes;
     s.factorizations = report.factorizations;
-    s.fallbacks += report.failures;
     s.unsettled = report.unsettled;
     s.residual = report.residual;
+    s.factor_ms = report.factor_ms;
   }
 
   void integrate() {

@@ -1,5 +1,5 @@
 #pragma once
-// Capture: the study's trajectory, recorded once with the monolithic direct solver (issue #6).
+// Capture: the study's trajectory, recorded once with the direct solver (issue #6).
 // Every configuration of `rbpart bench` then solves these very problems (study/replay.hpp), so
 // their differences come from partitioning alone, not from trajectories that drift apart.
 #include <rbpart/params.hpp>
@@ -36,7 +36,7 @@ struct Trajectory {
   std::size_t bytes() const;       // memory held by the recorded problems (approximate)
 };
 
-// Runs `scene` for `steps` steps with the monolithic direct solver and no partitioner, recording
+// Runs `scene` for `steps` steps with the direct solver and no partitioner, recording
 // the problem of steps every, 2 every, 3 every, ... (1-based). `on_step(done)` after each step.
 Trajectory capture_trajectory(const SceneDef& scene, int steps, int every, const StepParams& step_params,
                               const SolverParams& solver_params, const std::function<void(int)>& on_step = {});

@@ -9,8 +9,8 @@
 
 #include "core/timer.hpp"
 #include "partition/partition.hpp"
+#include "solve/newton_substructured.hpp"
 #include "solve/solve.hpp"
-#include "solve/substructured.hpp"
 
 namespace rbpart {
 
@@ -52,14 +52,16 @@ class Runner {
   Sample run(const StepProblem& p, const StudyConfig& c, bool measure, StepMeasure& m, int& mismatches) {
     Sample sample{};
     rows_ = p.rows;  // untimed: every solve starts from the recorded warm start
+    SolveReport report;
     if (c.direct()) {
       direct_.threads = c.threads;
-      const Timer t;
-      const SolveReport report = solve_direct(rows_, p.bodies, p.islands, direct_);
-      sample[kSolve] = t.ms();
+      {
+        const Timer t;
+        report = solve_newton_direct(rows_, p.bodies, p.islands, direct_);
+        sample[kSolve] = t.ms();
+      }
       if (!measure) return sample;
       m.parts = static_cast<int>(p.islands.count());
-      m.fallbacks = report.failures;
       // The fairness check: the replayed baseline must be the live solve, bit for bit.
       if (rows_.lambda.size() != p.live_lambda.size() ||
           (!rows_.lambda.empty() &&
@@ -73,23 +75,24 @@ class Runner {
       sub_.threads = c.threads;
       { const Timer t; partition_graph(p.graph, params, partition_); sample[kPartition] = t.ms(); }
       { const Timer t; refine_partition(p.graph, params, partition_); sample[kRefine] = t.ms(); }
-      SubstructuredReport report;
+      NewtonSubstructuredReport sub;
       {
         const Timer t;
-        report = solve_substructured(rows_, p.bodies, p.islands, p.graph, partition_, sub_);
+        sub = solve_newton_substructured(rows_, p.bodies, p.islands, p.graph, partition_, sub_);
         sample[kSolve] = t.ms();
       }
-      sample[kWork] = report.work_ms;
-      sample[kCriticalPath] = report.critical_path_ms;
+      sample[kWork] = sub.work_ms;
+      sample[kCriticalPath] = sub.critical_path_ms;
       if (!measure) return sample;
+      report = sub.solve;
       const PartitionQuality q = measure_partition(p.graph, partition_);
       m.parts = parts_with_rows(p, partition_, seen_);
       m.interface_rows = q.interface_rows;
       m.interface_bodies = q.interface_bodies;
       m.edge_cut = q.edge_cut;
-      m.loop_iterations = report.loop_iterations;
-      m.fallbacks = report.fallbacks;
     }
+    m.factorizations = report.factorizations;
+    m.unsettled = report.unsettled;
     m.lambda_error = lambda_error(rows_.lambda, p.live_lambda);
     return sample;
   }

@@ -1,7 +1,8 @@
 #pragma once
 // Replay: every configuration solves every recorded step's problem (study/capture.hpp) — partition, refine
 // and the substructured solve (docs/design.md#partition, #refine, #substructured), each timed on its own —
-// and the monolithic direct solver solves it once more as the baseline. Times are medians over repeats.
+// and the direct solver (the same Newton solver on the monolithic backend) solves it once more as the
+// baseline. Times are medians over repeats.
 #include <rbpart/params.hpp>
 
 #include <functional>
@@ -11,7 +12,7 @@
 
 namespace rbpart {
 
-// One column of the study. Partitioner None is the monolithic direct solver (the baseline).
+// One column of the study. Partitioner None is the direct solver (the baseline).
 struct StudyConfig {
   PartitionerKind partitioner = PartitionerKind::None;
   RefinerKind refiner = RefinerKind::None;
@@ -24,13 +25,13 @@ struct StudyConfig {
 // its own; the counts are the same in every repeat (the solvers are deterministic).
 struct StepMeasure {
   double partition_ms = 0, refine_ms = 0, solve_ms = 0;
-  // Substructured only (SubstructuredReport): the solve's work summed over threads, and its
+  // Substructured only (NewtonSubstructuredReport): the solve's work summed over threads, and its
   // critical path (the slowest part of each parallel section), which bound its time on more cores.
   double work_ms = 0, critical_path_ms = 0;
   int parts = 0;                // sub-systems (islands for the direct baseline)
   int interface_rows = 0, interface_bodies = 0, edge_cut = 0;
-  int loop_iterations = 0;      // interface/sub-system iterations (substructured only)
-  int fallbacks = 0;            // islands finished by the counted fallback (docs/design.md#substructured)
+  int factorizations = 0;       // the solve's factorisations, summed over islands (its cost, DESIGN.md §3)
+  int unsettled = 0;            // islands whose answer ended above the residual 1e-9
   // max_j |lambda_j - live lambda_j| / max_j |live lambda_j|: the answer is the live run's.
   double lambda_error = 0;
 };

@@ -22,7 +22,7 @@ std::string key_columns(const std::string& scene, const StudyConfig& c) {
 const char* kSummaryColumns =
     "scene,solver,partitioner,refine,nmax,threads,dynamic_bodies,simulated_steps,recorded_steps,mean_solve_ms,"
     "median_solve_ms,max_solve_ms,mean_partition_ms,mean_refine_ms,mean_work_ms,mean_critical_path_ms,mean_parts,mean_interface_rows,"
-    "mean_interface_bodies,mean_edge_cut,mean_loop_iterations,fallbacks,solve_vs_mindp,max_lambda_error\n";
+    "mean_interface_bodies,mean_edge_cut,mean_factorizations,unsettled,solve_vs_mindp,max_lambda_error\n";
 
 std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
   const bool direct = s.config.direct();
@@ -34,8 +34,7 @@ std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
   for (const double v : {s.mean_work_ms, s.mean_critical_path_ms}) line += ',' + (direct ? std::string() : round_trip(v));
   for (const double v : {s.mean_parts, s.mean_interface_rows, s.mean_interface_bodies, s.mean_edge_cut})
     line += ',' + round_trip(v);
-  line += ',' + (direct ? std::string() : round_trip(s.mean_loop_iterations));
-  line += ',' + std::to_string(s.fallbacks) + ',' + round_trip(s.solve_vs_mindp) + ',' + round_trip(s.max_lambda_error);
+  line += ',' + round_trip(s.mean_factorizations) + ',' + std::to_string(s.unsettled) + ',' + round_trip(s.solve_vs_mindp) + ',' + round_trip(s.max_lambda_error);
   return line + '\n';
 }
 
@@ -74,13 +73,13 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
       s.mean_interface_rows += m.interface_rows;
       s.mean_interface_bodies += m.interface_bodies;
       s.mean_edge_cut += m.edge_cut;
-      s.mean_loop_iterations += m.loop_iterations;
-      s.fallbacks += m.fallbacks;
+      s.mean_factorizations += m.factorizations;
+      s.unsettled += m.unsettled;
       s.max_lambda_error = std::max(s.max_lambda_error, m.lambda_error);
     }
     for (double* v : {&s.mean_solve_ms, &s.mean_partition_ms, &s.mean_refine_ms, &s.mean_work_ms, &s.mean_critical_path_ms,
                       &s.mean_parts, &s.mean_interface_rows, &s.mean_interface_bodies, &s.mean_edge_cut,
-                      &s.mean_loop_iterations})
+                      &s.mean_factorizations})
       *v = n > 0 ? *v / static_cast<double>(n) : 0.0;
     s.median_solve_ms = median(solve);
   }
@@ -100,7 +99,7 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
 
 std::string steps_csv_header() {
   return "scene,solver,partitioner,refine,nmax,threads,step,rows,parts,interface_rows,interface_bodies,edge_cut,"
-         "loop_iterations,fallbacks,partition_ms,refine_ms,solve_ms,work_ms,critical_path_ms,lambda_error\n";
+         "factorizations,unsettled,partition_ms,refine_ms,solve_ms,work_ms,critical_path_ms,lambda_error\n";
 }
 
 std::string steps_csv_rows(const SceneResult& scene) {
@@ -150,7 +149,7 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
     if (many_nmax) out += " n_max |";
     if (many_threads) out += " threads |";
     out += " solve mean (ms) | solve median (ms) | solve max (ms) | critical path (ms) | partition (ms) |"
-           " refine (ms) | parts | interface rows | loop iterations | fallbacks | vs MinDP |\n|---|---|---|";
+           " refine (ms) | parts | interface rows | factorisations | unsettled | vs MinDP |\n|---|---|---|";
     if (many_nmax) out += "---:|";
     if (many_threads) out += "---:|";
     out += "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -166,7 +165,7 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
              (c.direct() ? "—" : format("%.4f", s.mean_partition_ms)) + " | " +
              (c.direct() ? "—" : format("%.4f", s.mean_refine_ms)) + " | " + format("%.1f", s.mean_parts) + " | " +
              (c.direct() ? "—" : format("%.1f", s.mean_interface_rows)) + " | " +
-             (c.direct() ? "—" : format("%.2f", s.mean_loop_iterations)) + " | " + std::to_string(s.fallbacks) +
+             format("%.2f", s.mean_factorizations) + " | " + std::to_string(s.unsettled) +
              " | " + percent_change(s.solve_vs_mindp) + " |\n";
     }
   }

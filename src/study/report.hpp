@@ -24,14 +24,14 @@ struct SceneResult {
 };
 
 // Means over a scene's recorded steps of one configuration's per-step medians (and their median
-// over the steps: one landing step whose friction path takes 100 times the others moves the mean).
+// over the steps: one landing step that takes 100 times the others moves the mean).
 struct ConfigSummary {
   StudyConfig config;
   double mean_solve_ms = 0, median_solve_ms = 0, max_solve_ms = 0, mean_partition_ms = 0, mean_refine_ms = 0;
   double mean_work_ms = 0, mean_critical_path_ms = 0;  // substructured only
   double mean_parts = 0, mean_interface_rows = 0, mean_interface_bodies = 0, mean_edge_cut = 0;
-  double mean_loop_iterations = 0;
-  int fallbacks = 0;          // summed over the steps
+  double mean_factorizations = 0;
+  int unsettled = 0;          // islands, summed over the steps
   double max_lambda_error = 0;
   // mean_solve_ms / that of MinDP unrefined with the same threads (and n_max; the first n_max for
   // the direct baseline), from the same recorded steps and repeats.
@@ -47,8 +47,8 @@ inline constexpr std::pair<const char*, int StepMeasure::*> kStepCounts[] = {
     {"interface_rows", &StepMeasure::interface_rows},
     {"interface_bodies", &StepMeasure::interface_bodies},
     {"edge_cut", &StepMeasure::edge_cut},
-    {"loop_iterations", &StepMeasure::loop_iterations},
-    {"fallbacks", &StepMeasure::fallbacks}};
+    {"factorizations", &StepMeasure::factorizations},
+    {"unsettled", &StepMeasure::unsettled}};
 inline constexpr std::pair<const char*, double StepMeasure::*> kStepValues[] = {
     {"partition_ms", &StepMeasure::partition_ms},
     {"refine_ms", &StepMeasure::refine_ms},

@@ -261,7 +261,7 @@ class StudyWriter {
                 ? " (scenes resumed from other revisions: machine.json gives each scene's)"
                 : "") +
            ". Solver threads: " + threads +
-           ".\n\nEvery configuration solved the same recorded step problems (the monolithic direct solver's "
+           ".\n\nEvery configuration solved the same recorded step problems (the direct solver's "
            "trajectory); times are the mean over the recorded steps of each step's median over " +
            std::to_string(spec_.repeats) + (spec_.repeats == 1 ? " run" : " runs") +
            ". *vs MinDP*: change of the mean solve time against MinDP without refinement, same steps and "

@@ -1,6 +1,6 @@
 #pragma once
 // The partitioning study (issue #6): the paper's Table 1 and Figures 3-5 from one command,
-// `rbpart bench`. Each scene's trajectory is recorded once with the monolithic direct solver
+// `rbpart bench`. Each scene's trajectory is recorded once with the direct solver
 // (study/capture.hpp) and every configuration — partitioner x refiner x n_max x threads, plus the
 // direct baseline — solves the same recorded problems (study/replay.hpp). docs/study.md explains
 // the measurements and the outputs.

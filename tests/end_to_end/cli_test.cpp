@@ -90,6 +90,9 @@ TEST_F(Cli, UnknownOptionAndBadValues) {
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
   }
+  // The direct solver is the Newton solver: `newton` is no longer a solver of its own.
+  EXPECT_EQ(run("simulate --scene box_stack --solver newton").err,
+            "rbpart: error: --solver: newton not in {direct,pgs,substructured}\n");
 }
 
 TEST_F(Cli, NumericOptionsNameTheirBound) {
@@ -99,7 +102,9 @@ TEST_F(Cli, NumericOptionsNameTheirBound) {
       {"--dt 1e300", "--dt: must lie in (0, 1] (got 1e300)"},
       {"--erp 0", "--erp: must lie in (0, 1] (got 0)"},
       {"--erp 1.5", "--erp: must lie in (0, 1] (got 1.5)"},
-      {"--coupled-paths 0", "--coupled-paths: must be positive (got 0)"},
+      {"--max-factorizations 0", "--max-factorizations: must be positive (got 0)"},
+      // The direct solver's body-space systems divide by every row's regularisation.
+      {"--sigma-floor 0", "--sigma-floor: must be positive (got 0)"},
       {"--slop nan", "--slop: must be a number (got 'nan')"},
   };
   for (const auto& [args, expect] : cases) {
@@ -141,7 +146,7 @@ TEST_F(Cli, StatsHaveTheHeaderOnLineOneEveryColumnAndOneLinePerStep) {
   }
   EXPECT_EQ(data, 5);
   for (const char* col : {"step", "bodies", "contacts", "rows", "parts", "interface_rows", "interface_bodies",
-                          "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "fallback",
+                          "edge_cut", "partition_ms", "refine_ms", "solve_ms", "solver_iterations", "factorizations",
                           "blcp_residual", "max_penetration", "kinetic_energy", "unsettled"})
     EXPECT_NE(header.find(col), std::string::npos) << col;
 }
@@ -168,7 +173,7 @@ print("read", len(rows), "rows")
 // The summary names the run's total time, its slowest step and its unsettled steps, as the stats say
 // (one factorisation per island and step leaves most of a landing pile's steps unsettled).
 TEST_F(Cli, SummaryNamesTotalSlowestStepAndUnsettledSteps) {
-  const Result r = run("simulate --scene rock_pile --set rocks=20 --steps 40 --solver newton --max-factorizations 1 "
+  const Result r = run("simulate --scene rock_pile --set rocks=20 --steps 40 --max-factorizations 1 "
                        "--stats " + path("s.csv"));
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream f(path("s.csv"));

@@ -38,20 +38,14 @@ StepStats numbered_stats() {
   s.edge_cut = 9;
   s.profile = {10.5, 11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17.5, 18.5};
   s.solver_iterations = 19;
-  s.friction_passes = 20;
-  s.factorizations = 21;
-  s.fallbacks = 22;
+  s.factorizations = 20;
   s.residual = 1.0 / 3.0 * 1e-12;
   s.max_penetration = 0.1 + 0.2;
   s.kinetic_energy = 2.0 / 7.0 * 1e3;
-  s.loop_iterations = 26;
-  s.factor_ms = 27.5;
-  s.schur_ms = 28.5;
-  s.interface_ms = 29.5;
-  s.subsystem_ms = 30.5;
-  s.work_ms = 31.5;
-  s.critical_path_ms = 32.5;
-  s.unsettled = 33;
+  s.factor_ms = 24.5;
+  s.work_ms = 25.5;
+  s.critical_path_ms = 26.5;
+  s.unsettled = 27;
   return s;
 }
 
@@ -83,28 +77,28 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
   EXPECT_EQ(lines[0],
             "step,bodies,contacts,rows,islands,parts,interface_rows,interface_bodies,edge_cut,collide_ms,"
             "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,project_ms,total_ms,solver_iterations,"
-            "friction_passes,factorizations,fallback,blcp_residual,max_penetration,kinetic_energy,loop_iterations,"
-            "factor_ms,schur_ms,interface_ms,subsystem_ms,work_ms,critical_path_ms,unsettled");
+            "factorizations,blcp_residual,max_penetration,kinetic_energy,factor_ms,work_ms,critical_path_ms,"
+            "unsettled");
   EXPECT_EQ(split(lines[0], ',').size(), StatsCsvWriter::kColumns.size());
 
-  // Row 1: columns 1..22 and 26..33 hold their own number (the times n + 0.5), 23..25 are exact.
+  // Row 1: columns 1..20 and 24..27 hold their own number (the times n + 0.5), 21..23 are exact.
   const std::vector<std::string> row = split(lines[1], ',');
   ASSERT_EQ(row.size(), StatsCsvWriter::kColumns.size());
   for (int c = 0; c < static_cast<int>(row.size()); ++c) {
-    if (c >= 22 && c <= 24) continue;
-    const double expected = ((c >= 9 && c <= 17) || (c >= 26 && c <= 31)) ? c + 1.5 : c + 1;
+    if (c >= 20 && c <= 22) continue;
+    const double expected = ((c >= 9 && c <= 17) || (c >= 23 && c <= 25)) ? c + 1.5 : c + 1;
     EXPECT_EQ(std::strtod(row[c].c_str(), nullptr), expected) << StatsCsvWriter::kColumns[c];
   }
-  EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.residual);
-  EXPECT_EQ(std::strtod(row[23].c_str(), nullptr), first.max_penetration);
-  EXPECT_EQ(std::strtod(row[24].c_str(), nullptr), first.kinetic_energy);
+  EXPECT_EQ(std::strtod(row[20].c_str(), nullptr), first.residual);
+  EXPECT_EQ(std::strtod(row[21].c_str(), nullptr), first.max_penetration);
+  EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.kinetic_energy);
 
   // Row 2: times to six significant digits; the sign of a zero is kept.
   const std::vector<std::string> row2 = split(lines[2], ',');
   ASSERT_EQ(row2.size(), StatsCsvWriter::kColumns.size());
   EXPECT_EQ(row2[0], "2");
   EXPECT_EQ(row2[14], "1.23457");
-  EXPECT_EQ(row2[23], "-0");
+  EXPECT_EQ(row2[21], "-0");
 }
 
 TEST(StatsCsv, AbandonedWriterLeavesNothing) {
@@ -138,10 +132,9 @@ TEST(RunParameters, EveryParameterByNameAndExact) {
   std::map<std::string, std::string> by_name;
   for (const auto& [name, value] : run_parameters(step, solver)) by_name[name] = value;
   for (const char* name : {"erp", "slop", "sigma_floor", "sliding_velocity_eps", "contact_margin",
-                           "joint_projection_iterations", "joint_tolerance", "solver", "max_factorizations",
-                           "dense_max_bodies", "dense_max_rows",
-                           "max_pivot_iterations", "murty_after", "friction_passes", "friction_tolerance",
-                           "pgs_iterations", "pgs_tolerance", "threads"})
+                           "joint_projection_iterations", "joint_tolerance", "projection_depth", "projection_turn",
+                           "solver", "max_factorizations", "dense_max_bodies", "pgs_iterations", "pgs_tolerance",
+                           "threads"})
     EXPECT_EQ(by_name.count(name), 1u) << name;
   EXPECT_EQ(std::strtod(by_name["erp"].c_str(), nullptr), 1.0 / 3.0);
   EXPECT_EQ(std::strtod(by_name["slop"].c_str(), nullptr), 0.1 + 0.2);

@@ -333,7 +333,6 @@ TEST(SolveNewtonSubstructured, SolvesTheStageAsTheMonolithicBackendDoes) {
   for (int v = 0; v < graph.node_count(); ++v) partition.part_of[v] = (v * 7) % 5;  // parts span islands
   partition.part_count = 5;
   SolverParams params;
-  params.kind = SolverKind::Newton;
   params.dense_max_bodies = 1;
   const SolveReport direct = solve_newton_direct(reference.rows, reference.bodies, reference.islands, params);
   const NewtonSubstructuredReport report =

@@ -1,7 +1,8 @@
-// The substructured solver inside the time step (`simulate --solver substructured`): from the same
-// state it gives the monolithic direct solver's impulses up to round-off (docs/design.md#substructured), so a step
-// from the same state leaves both worlds in the same state up to round-off, and the step's stats
-// report the partition and the loop it ran.
+// The substructured solver inside the time step (`simulate --solver substructured`): it is the
+// direct solver's Newton iteration on the substructured backend, so from the same state it gives the
+// direct solver's impulses up to round-off (docs/design.md#substructured), a step from the same state
+// leaves both worlds in the same state up to round-off, and the step's stats report the partition
+// and the solve's work and critical path.
 //
 // Only steps from one shared state are compared. A trajectory is chaotic once bodies pile up: two
 // runs that differ in the last bit at one step part by about tenfold every five steps, so a
@@ -60,75 +61,61 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
       {"chain_drop", {{"links", "30"}}, 120, PartitionerKind::Mr, RefinerKind::None, 5},
   };
   constexpr int kEvery = 4;  // start states: every kEvery-th step of the trajectory
-  // Cap 100 (and 1000 halved steps) is far above what these steps need: the iteration itself, not
-  // its fallback, must follow. Cap 1 makes split islands fall back, in whichever friction pass the
-  // iteration first fails to settle at once: the fallback must follow just as closely.
-  for (int cap : {100, 1}) {
-    for (const Case& c : cases) {
-      SCOPED_TRACE(std::string(c.scene) + " cap " + std::to_string(cap));
-      const SceneDef scene = make_builtin_scene(c.scene, c.overrides);
-      // The exact friction rule (friction_tolerance 0: passes settle only on round-off), so that
-      // both solvers take the same path through the friction loop.
-      SolverParams exact;
-      exact.friction_tolerance = 0;
-      SolverParams sub = exact;
-      sub.kind = SolverKind::Substructured;
-      sub.substructured_max_iterations = cap;
-      if (cap == 100) sub.substructured_max_halvings = 1000;
-      PartitionParams partition;
-      partition.partitioner = c.partitioner;
-      partition.refiner = c.refiner;
-      partition.nmax = c.nmax;
-      World trajectory(scene, StepParams{}, exact, PartitionParams{});
-      int interface_rows = 0, loop_iterations = 0, fallbacks = 0, compared = 0;
-      for (int step = 0; step < c.steps; ++step) {
-        if (step % kEvery == 0) {
-          const SceneDef start = restarted(scene, world_bodies(trajectory));
-          World direct(start, StepParams{}, exact, PartitionParams{}), split(start, StepParams{}, sub, partition);
-          bool settled = true;
-          for (int k = 1; k <= 2; ++k) {
-            SCOPED_TRACE("from step " + std::to_string(step) + ", step " + std::to_string(k));
-            const StepStats& d = direct.step();
-            const StepStats& s = split.step();
-            ASSERT_EQ(s.rows, d.rows);
-            EXPECT_LE(s.residual, d.residual + 1e-9);
-            if (cap == 100) EXPECT_EQ(s.fallbacks, 0);
-            fallbacks += s.fallbacks;
-            EXPECT_GE(s.parts, s.islands);
-            interface_rows += s.interface_rows;
-            loop_iterations += s.loop_iterations;
-            // A step that ends at the pass cap is an approximate answer whose digits depend on the
-            // path taken, so the two solvers part there by more than round-off.
-            settled = settled && d.residual <= 1e-9;
-          }
-          if (settled) {
-            ++compared;
-            // Round-off of two steps: 1e-9 of the speeds, and at least 1e-6 of one step of gravity
-            // (g h) - a box face resting on four corners has a null wrench that only the sigma
-            // floor tells apart, so normal impulses, and the friction boxes they set, agree to ~1e-6
-            // relative (as in substructured_test.cpp), and a friction row on its box carries that
-            // into the velocities. A solver error shows at the scale of g h itself.
-            const Bodies& a = world_bodies(direct);
-            const Bodies& b = world_bodies(split);
-            double v_scale = 0, dv = 0, dx = 0;
-            for (int i = 0; i < a.size(); ++i) {
-              v_scale = std::max(v_scale, a.v[i].norm());
-              dv = std::max({dv, (a.v[i] - b.v[i]).norm(), (a.w[i] - b.w[i]).norm()});
-              dx = std::max(dx, (a.x[i] - b.x[i]).norm());
-            }
-            const double dv_bound = std::max(1e-9 * v_scale, 1e-6 * 9.81 * scene.dt);
-            EXPECT_LE(dv, dv_bound) << "from step " << step;
-            EXPECT_LE(dx, 2 * scene.dt * dv_bound) << "from step " << step;  // two steps of dv
-          }
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.scene);
+    const SceneDef scene = make_builtin_scene(c.scene, c.overrides);
+    SolverParams sub;
+    sub.kind = SolverKind::Substructured;
+    PartitionParams partition;
+    partition.partitioner = c.partitioner;
+    partition.refiner = c.refiner;
+    partition.nmax = c.nmax;
+    World trajectory(scene);
+    int interface_rows = 0, compared = 0;
+    for (int step = 0; step < c.steps; ++step) {
+      if (step % kEvery == 0) {
+        const SceneDef start = restarted(scene, world_bodies(trajectory));
+        World direct(start), split(start, StepParams{}, sub, partition);
+        bool settled = true;
+        for (int k = 1; k <= 2; ++k) {
+          SCOPED_TRACE("from step " + std::to_string(step) + ", step " + std::to_string(k));
+          const StepStats& d = direct.step();
+          const StepStats& s = split.step();
+          ASSERT_EQ(s.rows, d.rows);
+          EXPECT_LE(s.residual, d.residual + 1e-9);
+          EXPECT_GE(s.parts, s.islands);
+          // Work sums every part's time, the critical path keeps each parallel phase's slowest.
+          EXPECT_GE(s.work_ms, s.critical_path_ms);
+          interface_rows += s.interface_rows;
+          // An unsettled answer (the budget ran out) depends on the path taken, so the two solvers
+          // part there by more than round-off.
+          settled = settled && d.residual <= 1e-9;
         }
-        trajectory.step();
+        if (settled) {
+          ++compared;
+          // Round-off of two steps: 1e-9 of the speeds, and at least 1e-6 of one step of gravity
+          // (g h) - a box face resting on four corners has a null wrench that only the sigma
+          // floor tells apart, so normal impulses, and the friction boxes they set, agree to ~1e-6
+          // relative, and a friction row on its box carries that into the velocities. A solver
+          // error shows at the scale of g h itself.
+          const Bodies& a = world_bodies(direct);
+          const Bodies& b = world_bodies(split);
+          double v_scale = 0, dv = 0, dx = 0;
+          for (int i = 0; i < a.size(); ++i) {
+            v_scale = std::max(v_scale, a.v[i].norm());
+            dv = std::max({dv, (a.v[i] - b.v[i]).norm(), (a.w[i] - b.w[i]).norm()});
+            dx = std::max(dx, (a.x[i] - b.x[i]).norm());
+          }
+          const double dv_bound = std::max(1e-9 * v_scale, 1e-6 * 9.81 * scene.dt);
+          EXPECT_LE(dv, dv_bound) << "from step " << step;
+          EXPECT_LE(dx, 2 * scene.dt * dv_bound) << "from step " << step;  // two steps of dv
+        }
       }
-      // The states had interfaces to solve, and each needed at least one pass of the loop.
-      EXPECT_GE(compared, 3);
-      EXPECT_GT(interface_rows, 0);
-      EXPECT_GT(loop_iterations, 0);
-      if (cap == 1) EXPECT_GT(fallbacks, 0);
+      trajectory.step();
     }
+    // The states had interfaces to solve.
+    EXPECT_GE(compared, 3);
+    EXPECT_GT(interface_rows, 0);
   }
 }
 
