@@ -2,7 +2,7 @@
 // Constraint rows of one step (docs/design.md#dynamics), stored per field (structure of arrays). Each row
 // acts on at most two dynamic bodies; a static body or the world is body index -1 and owns no unknowns. Row
 // j's BLCP data: A = J M^-1 J^T + diag(sigma), q = J u* + b, lo <= lambda <= hi, where a friction row's
-// bounds are +-mu * lambda[normal_of] (set by the solver's friction outer loop).
+// bounds are +-mu * lambda[normal_of] of the same solve (the solver writes the final ones into lo, hi).
 #include <Eigen/Core>
 
 #include <array>

@@ -1,6 +1,6 @@
 #include "solve/interior_point.hpp"
 
-#include "solve/blcp.hpp"
+#include "solve/bounds.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "assembly/rows.hpp"
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
-#include "solve/blcp.hpp"
+#include "solve/bounds.hpp"
 
 #include <Eigen/Core>
 

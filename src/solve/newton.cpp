@@ -140,12 +140,14 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   // The answer is the admissible point of least residual among the projected iterates.
   result.residual = std::numeric_limits<double>::infinity();
   double last = 0;  // the residual of the last point considered
+  bool have_best = false;  // the first point is kept even if its residual is not finite
   const auto consider = [&](Eigen::VectorXd& candidate) {
     project_onto_bounds(s, candidate);
     velocities(s, candidate, ws.du, ws.trial_w);
     scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw);
     last = residual_of(ws.trial_fw, scale);
-    if (last < result.residual) {
+    if (last < result.residual || !have_best) {
+      have_best = true;
       result.residual = last;
       ws.best = candidate;
       ws.w = ws.trial_w;

@@ -1,6 +1,6 @@
 #include "solve/newton_island.hpp"
 
-#include "solve/blcp.hpp"
+#include "solve/bounds.hpp"
 #include "solve/residual.hpp"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "solve/residual.hpp"
 
-#include "solve/blcp.hpp"
+#include "solve/bounds.hpp"
 
 #include "solve/island_system.hpp"
 #include "solve/solve.hpp"

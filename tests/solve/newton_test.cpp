@@ -3,7 +3,7 @@
 // against analytic impulses (boxes resting, sliding, sliding and spinning on a box), its residual,
 // its budget, the residual's scaling on a 1:10000 pair, random contact islands on both backends,
 // and every solution of small islands found by enumerating their row states.
-#include "solve/blcp.hpp"
+#include "solve/bounds.hpp"
 #include "solve/monolithic.hpp"
 #include "solve/newton.hpp"
 #include "solve/random_blcp.hpp"
