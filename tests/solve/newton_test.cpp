@@ -260,6 +260,25 @@ NewtonResult solve_cold(const IslandSystem& s, int dense_max_bodies, Eigen::Vect
   return solve_newton(s, system, SolverParams{}.max_factorizations, lambda, state, ws);
 }
 
+// A problem with a non-finite coefficient has no iterate of finite residual: the solver still ends
+// (unsettled, its answer one impulse per row) instead of returning an answer it never computed.
+TEST(SolveNewton, ANonFiniteProblemEndsUnsettledWithAnAnswerPerRow) {
+  std::mt19937 rng(3);
+  RandomIsland island;
+  IslandOptions opt;
+  opt.rows = 12;
+  opt.bodies = 2;
+  random_contact_island(rng, opt, island);
+  IslandSystem s = island.system;
+  s.q[0] = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd lambda;
+  const NewtonResult r = solve_cold(s, 100, lambda);
+  EXPECT_FALSE(r.settled);
+  EXPECT_FALSE(r.residual <= kSettledResidual);
+  EXPECT_EQ(lambda.size(), s.rows);
+  EXPECT_LE(r.factorizations, SolverParams{}.max_factorizations);
+}
+
 // Random contact islands (random_blcp.hpp: contacts between bodies and against static ones, joint
 // and box rows, redundant beyond six rows per body) with fixed friction boxes: a strictly convex box
 // QP, whose answer is unique. From a cold start, on the dense and the sparse backend, the solver
