@@ -24,11 +24,11 @@ void run_formed_pile(benchmark::State& state, const std::string& scene, const st
   for (auto _ : state) {
     const StepStats& s = world.step();
     penetration = std::max(penetration, s.max_penetration);
-    residual = std::max(residual, s.residual);
+    residual = std::max(residual, s.solve.residual);
     rows += s.rows;
     contacts += s.contacts;
     solve_ms += s.profile.solve_ms;
-    iterations += s.solver_iterations;
+    iterations += s.solve.iterations;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["rows"] = rows / n;

@@ -49,7 +49,7 @@ const std::vector<StepProblem>& recorded(Scene scene) {
 // What both solvers report, summed over the solves.
 struct Sums {
   double ms = 0, factorizations = 0, unsettled = 0, residual = 0;
-  void add(double wall_ms, const SolveReport& r) {
+  void add(double wall_ms, const SolveStats& r) {
     ms += wall_ms;
     factorizations += r.factorizations;
     unsettled += r.unsettled;
@@ -71,7 +71,7 @@ void BM_Direct(benchmark::State& state, Scene scene) {
     for (const StepProblem& p : problems) {
       Rows r = p.rows;
       const Timer timer;
-      const SolveReport report = solve_newton_direct(r, p.bodies, p.islands, SolverParams{});
+      const SolveStats report = solve_newton_direct(r, p.bodies, p.islands, SolverParams{});
       sums.add(timer.ms(), report);
     }
   sums.report(state, static_cast<double>(state.iterations()) * problems.size());
@@ -103,8 +103,8 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
       sum.interface_rows += report.interface_rows;
       sum.interface_bodies += report.interface_bodies;
       sum.parts_refactored += report.parts_refactored;
-      sum.work_ms += report.work_ms;
-      sum.critical_path_ms += report.critical_path_ms;
+      sum.solve.work_ms += report.solve.work_ms;
+      sum.solve.critical_path_ms += report.solve.critical_path_ms;
     }
   const double solves = static_cast<double>(state.iterations()) * problems.size();
   sums.report(state, solves);
@@ -112,8 +112,8 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
   state.counters["iface_rows"] = sum.interface_rows / solves;
   state.counters["iface_bodies"] = sum.interface_bodies / solves;
   state.counters["part_factors"] = sum.parts_refactored / solves;
-  state.counters["work_ms"] = sum.work_ms / solves;
-  state.counters["critical_ms"] = sum.critical_path_ms / solves;
+  state.counters["work_ms"] = sum.solve.work_ms / solves;
+  state.counters["critical_ms"] = sum.solve.critical_path_ms / solves;
 }
 
 void direct_args(benchmark::internal::Benchmark* b) {

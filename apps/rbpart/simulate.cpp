@@ -114,10 +114,10 @@ int run_simulate(const Options& o) {
     total_ms.push_back(s.profile.total_ms);
     solve_ms.push_back(s.profile.solve_ms);
     max_penetration = std::max(max_penetration, s.max_penetration);
-    max_residual = std::max(max_residual, s.residual);
-    work_ms += s.work_ms;
-    critical_path_ms += s.critical_path_ms;
-    if (s.unsettled > 0) {
+    max_residual = std::max(max_residual, s.solve.residual);
+    work_ms += s.solve.work_ms;
+    critical_path_ms += s.solve.critical_path_ms;
+    if (s.solve.unsettled > 0) {
       ++unsettled_steps;
       last_unsettled = s.step;
     }

@@ -3,6 +3,7 @@
 // -> integrate -> project (docs/design.md#step), each stage timed into the step's profile.
 #include <rbpart/params.hpp>
 #include <rbpart/scene.hpp>
+#include <rbpart/stats.hpp>
 
 #include <cstdint>
 #include <memory>
@@ -16,30 +17,19 @@ struct StepProfile {
          integrate_ms = 0, project_ms = 0, total_ms = 0;
 };
 
-// Per-step statistics (docs/design.md#contracts: one CSV line per step).
+// Per-step statistics (docs/design.md#contracts: one CSV line per step); a stage that reports more
+// than a count or two reports it in its own record (stats.hpp), held here whole.
 struct StepStats {
   int step = 0;
   int bodies = 0;            // dynamic bodies
   int contacts = 0;
   int rows = 0;
   int islands = 0;
-  int parts = 0;             // sub-systems (= islands for the monolithic solvers)
-  int interface_rows = 0;
-  int interface_bodies = 0;
-  int edge_cut = 0;
-  int solver_iterations = 0;  // Newton steps or PGS sweeps, summed over islands
-  int factorizations = 0;     // summed over islands
-  // Islands whose answer ended above the residual 1e-9 (docs/design.md#contact-problem): approximate
-  // impulses.
-  int unsettled = 0;
-  double residual = 0;       // scaled natural-map residual of the step's contact problem
+  PartitionStats partition;  // the refined partition's quality (parts = islands without a partitioner)
+  SolveStats solve;
   double max_penetration = 0;  // m, deepest contact after collision
   double kinetic_energy = 0;   // J, after the step
   StepProfile profile;
-  // The solve's time in factorisations, summed over threads and islands (ms); for the substructured
-  // solver also all its work summed over threads and islands, and its critical path (each parallel
-  // phase replaced by its slowest part), which bounds the solve time on many cores (0 otherwise).
-  double factor_ms = 0, work_ms = 0, critical_path_ms = 0;
 };
 
 // One body's state (docs/formats.md#state-file): the pose of its shape frame, as a BodyDef gives it,

@@ -43,12 +43,14 @@ StatsCsvWriter::StatsCsvWriter(const std::string& path, const ParamList& params)
 }
 
 std::array<double, StatsCsvWriter::kColumns.size()> StatsCsvWriter::values(const StepStats& s) {
+  const PartitionStats& q = s.partition;
   const StepProfile& p = s.profile;
-  return {double(s.step), double(s.bodies), double(s.contacts), double(s.rows), double(s.islands), double(s.parts),
-          double(s.interface_rows), double(s.interface_bodies), double(s.edge_cut), p.collide_ms, p.assemble_ms,
+  const SolveStats& v = s.solve;
+  return {double(s.step), double(s.bodies), double(s.contacts), double(s.rows), double(s.islands), double(q.parts),
+          double(q.interface_rows), double(q.interface_bodies), double(q.edge_cut), p.collide_ms, p.assemble_ms,
           p.graph_ms, p.partition_ms, p.refine_ms, p.solve_ms, p.integrate_ms, p.project_ms, p.total_ms,
-          double(s.solver_iterations), double(s.factorizations), s.residual, s.max_penetration, s.kinetic_energy,
-          s.factor_ms, s.work_ms, s.critical_path_ms, double(s.unsettled)};
+          double(v.iterations), double(v.factorizations), v.residual, s.max_penetration, s.kinetic_energy,
+          v.factor_ms, v.work_ms, v.critical_path_ms, double(v.unsettled)};
 }
 
 StatsCsvWriter::ColumnKind StatsCsvWriter::column_kind(std::size_t column) {

@@ -5,6 +5,7 @@
 // nodes and lie within one island; ids are 0..part_count-1, numbered in the order the parts were made; the
 // result depends only on the graph and the parameters (ties go to the lowest node index).
 #include <rbpart/params.hpp>
+#include <rbpart/stats.hpp>
 
 #include <string>
 #include <vector>
@@ -19,14 +20,11 @@ struct Partition {
   int part_count = 0;
 };
 
-// Quality of a partition (issue #4's report; docs/design.md#contracts stats columns).
-struct PartitionQuality {
-  int parts = 0;
+// Quality of a partition (issue #4's report): the step's stats columns (PartitionStats, which a
+// World's step takes from it) and what `rbpart partition` reports besides.
+struct PartitionQuality : PartitionStats {
   int min_bodies = 0, max_bodies = 0;  // bodies per part
   double mean_bodies = 0;
-  WeightSum edge_cut = 0;        // constraints (edge weights) between different parts
-  WeightSum interface_rows = 0;  // rows between different parts (the size of the Schur complement S)
-  int interface_bodies = 0;  // nodes with an edge into another part
   double partition_ms = 0, refine_ms = 0;
 };
 

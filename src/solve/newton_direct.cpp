@@ -7,8 +7,8 @@
 
 namespace rbpart {
 
-SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
-                                IslandCache* cache) {
+SolveStats solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
+                               IslandCache* cache) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<NewtonResult> outcome(islands.count());
   IslandCache this_step;
@@ -20,9 +20,9 @@ SolveReport solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands&
     outcome[i] = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);
   });
 
-  SolveReport report;
-  for (const NewtonResult& o : outcome) add_island_result(o, report);
-  return report;
+  SolveStats stats;
+  for (const NewtonResult& o : outcome) add_island_result(o, stats);
+  return stats;
 }
 
 }  // namespace rbpart

@@ -49,12 +49,12 @@ NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_
   return result;
 }
 
-void add_island_result(const NewtonResult& result, SolveReport& report) {
-  report.iterations += result.iterations;
-  report.factorizations += result.factorizations;
-  report.factor_ms += result.factor_ms;
-  report.unsettled += !result.settled;
-  report.residual = std::max(report.residual, result.residual);
+void add_island_result(const NewtonResult& result, SolveStats& stats) {
+  stats.iterations += result.iterations;
+  stats.factorizations += result.factorizations;
+  stats.factor_ms += result.factor_ms;
+  stats.unsettled += !result.settled;
+  stats.residual = std::max(stats.residual, result.residual);
 }
 
 }  // namespace rbpart

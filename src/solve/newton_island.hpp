@@ -25,7 +25,7 @@ void for_each_island(const Islands& islands, Fn&& fn) {
 NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows,
                                  NewtonWorkspace& ws);
 
-// Adds one island's result to the solve stage's report.
-void add_island_result(const NewtonResult& result, SolveReport& report);
+// Adds one island's result to the solve stage's statistics.
+void add_island_result(const NewtonResult& result, SolveStats& stats);
 
 }  // namespace rbpart

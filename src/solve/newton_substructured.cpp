@@ -55,8 +55,8 @@ NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& b
     report.interface_rows += o.interface_rows;
     report.interface_bodies += o.interface_bodies;
     report.parts_refactored += o.parts_refactored;
-    report.work_ms += o.work_ms;
-    report.critical_path_ms = std::max(report.critical_path_ms, o.critical_path_ms);
+    report.solve.work_ms += o.work_ms;
+    report.solve.critical_path_ms = std::max(report.solve.critical_path_ms, o.critical_path_ms);
   }
   return report;
 }

@@ -15,17 +15,14 @@
 namespace rbpart {
 
 struct NewtonSubstructuredReport {
-  SolveReport solve;  // as solve_newton_direct fills it
+  // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases and each
+  // island's serial rest (gathering, set-up, the Newton iteration's own products and line search);
+  // critical_path_ms: the longest island's.
+  SolveStats solve;
   // Sums over islands; an island holds the parts of its bodies (a part spanning two islands counts
   // once per island), an island of one part has no interface.
   int parts = 0, interface_rows = 0, interface_bodies = 0;
   int parts_refactored = 0;  // part factorisations (a part whose rows did not change keeps its factor)
-  // Work, ms summed over threads and islands: the backends' parallel and serial phases and each
-  // island's serial rest (gathering, set-up, the Newton iteration's own products and line search).
-  double work_ms = 0;
-  // The longest island's critical path (ms): its wall time with every parallel phase over its parts
-  // replaced by its slowest part. With c cores a solve takes at least max(critical_path_ms, work_ms / c).
-  double critical_path_ms = 0;
 };
 
 // Solves every island's coupled problem and writes impulses, states and final friction bounds into

@@ -74,19 +74,19 @@ PgsOutcome solve_island(Rows& rows, const Bodies& bodies, const Islands& islands
 
 }  // namespace
 
-SolveReport solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params) {
+SolveStats solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<PgsOutcome> outcome(islands.count());
   parallel_for_each(islands.count(), [&](std::size_t i) {
     outcome[i] = solve_island(rows, bodies, islands, static_cast<int>(i), local_row, params);
   });
   // PGS has no factorisations and no separate friction passes (bounds follow every visit).
-  SolveReport report;
+  SolveStats stats;
   for (const PgsOutcome& o : outcome) {
-    report.iterations += o.sweeps;
-    report.residual = std::max(report.residual, o.residual);
+    stats.iterations += o.sweeps;
+    stats.residual = std::max(stats.residual, o.residual);
   }
-  return report;
+  return stats;
 }
 
 }  // namespace rbpart

@@ -181,29 +181,15 @@ struct World::Impl {
       throw std::logic_error(std::string(stage) + " stage at step " + std::to_string(steps + 1) + ": " + violation);
   }
 
-  // Solves the step's contact problem and fills the solver's columns of the stats.
-  void solve(StepStats& s) {
-    SolveReport report;
-    s.work_ms = s.critical_path_ms = 0;
+  // Solves the step's contact problem; the solver fills the stage's statistics.
+  SolveStats solve() {
     switch (solver_params.kind) {
-      case SolverKind::Pgs: report = solve_pgs(rows, bodies, islands, solver_params); break;
-      case SolverKind::Direct:
-        report = solve_newton_direct(rows, bodies, islands, solver_params, &island_cache);
-        break;
-      case SolverKind::Substructured: {
-        const NewtonSubstructuredReport sub =
-            solve_newton_substructured(rows, bodies, islands, graph_, partition_, solver_params);
-        report = sub.solve;
-        s.work_ms = sub.work_ms;
-        s.critical_path_ms = sub.critical_path_ms;
-        break;
-      }
+      case SolverKind::Pgs: return solve_pgs(rows, bodies, islands, solver_params);
+      case SolverKind::Substructured:
+        return solve_newton_substructured(rows, bodies, islands, graph_, partition_, solver_params).solve;
+      case SolverKind::Direct: break;
     }
-    s.solver_iterations = report.iterations;
-    s.factorizations = report.factorizations;
-    s.unsettled = report.unsettled;
-    s.residual = report.residual;
-    s.factor_ms = report.factor_ms;
+    return solve_newton_direct(rows, bodies, islands, solver_params, &island_cache);
   }
 
   void integrate() {
@@ -211,7 +197,9 @@ struct World::Impl {
     integrate_positions(bodies, scene.dt);
   }
 
-  void project_positions() { project.run(joints, stats.unsettled > 0, scene.dt, bodies, step_params, solver_params); }
+  void project_positions() {
+    project.run(joints, stats.solve.unsettled > 0, scene.dt, bodies, step_params, solver_params);
+  }
 
   // What the next step takes from this one: the joints' geometric stiffness (after the project
   // stage, whose mass metric has this step's) and the warm starts.
@@ -274,7 +262,7 @@ struct World::Impl {
       { const Timer t; refine(); p.refine_ms = t.ms(); }
     }
     if (observer) observer(rows, bodies, islands, graph_);
-    { const Timer t; solve(s); p.solve_ms = t.ms(); }
+    { const Timer t; s.solve = solve(); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
     { const Timer t; project_positions(); p.project_ms = t.ms(); }
     { const Timer t; keep_for_next_step(); p.integrate_ms += t.ms(); }
@@ -292,20 +280,13 @@ struct World::Impl {
     s.contacts = static_cast<int>(contacts.size());
     s.rows = static_cast<int>(rows.size());
     s.islands = static_cast<int>(islands.count());
-    s.parts = s.islands;
-    s.interface_rows = s.interface_bodies = s.edge_cut = 0;
-    if (partitioned) {
-      const PartitionQuality q = measure_partition(graph_, partition_);
-      s.parts = q.parts;
-      s.interface_rows = q.interface_rows;
-      s.interface_bodies = q.interface_bodies;
-      s.edge_cut = q.edge_cut;
-    }
+    // Without a partitioner the parts are the islands, with no interface.
+    s.partition = partitioned ? measure_partition(graph_, partition_) : PartitionStats{s.islands};
     s.max_penetration = 0;
     for (const Contact& c : contacts) s.max_penetration = std::max(s.max_penetration, -c.distance);
     s.kinetic_energy = kinetic_energy();
     // Nor is a step that ends finite but with a non-finite residual or energy a success to report.
-    if (!std::isfinite(s.residual) || !std::isfinite(s.kinetic_energy))
+    if (!std::isfinite(s.solve.residual) || !std::isfinite(s.kinetic_energy))
       throw std::runtime_error("non-finite BLCP residual or kinetic energy at step " + std::to_string(steps));
     return s;
   }

@@ -52,7 +52,7 @@ class Runner {
   Sample run(const StepProblem& p, const StudyConfig& c, bool measure, StepMeasure& m, int& mismatches) {
     Sample sample{};
     rows_ = p.rows;  // untimed: every solve starts from the recorded warm start
-    SolveReport report;
+    SolveStats report;
     if (c.direct()) {
       direct_.threads = c.threads;
       {
@@ -81,8 +81,8 @@ class Runner {
         sub = solve_newton_substructured(rows_, p.bodies, p.islands, p.graph, partition_, sub_);
         sample[kSolve] = t.ms();
       }
-      sample[kWork] = sub.work_ms;
-      sample[kCriticalPath] = sub.critical_path_ms;
+      sample[kWork] = sub.solve.work_ms;
+      sample[kCriticalPath] = sub.solve.critical_path_ms;
       if (!measure) return sample;
       report = sub.solve;
       const PartitionQuality q = measure_partition(p.graph, partition_);

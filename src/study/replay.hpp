@@ -25,7 +25,7 @@ struct StudyConfig {
 // its own; the counts are the same in every repeat (the solvers are deterministic).
 struct StepMeasure {
   double partition_ms = 0, refine_ms = 0, solve_ms = 0;
-  // Substructured only (NewtonSubstructuredReport): the solve's work summed over threads, and its
+  // Substructured only (its SolveStats): the solve's work summed over threads, and its
   // critical path (the slowest part of each parallel section), which bound its time on more cores.
   double work_ms = 0, critical_path_ms = 0;
   int parts = 0;                // sub-systems (islands for the direct baseline)

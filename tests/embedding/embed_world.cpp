@@ -65,7 +65,7 @@ int main() {
   const StepStats& rest = world.step();
   check(rest.contacts >= 1, "contacts at rest", rest.contacts, 1);
   check(rest.kinetic_energy < 1e-6, "kinetic energy at rest", rest.kinetic_energy, 0);
-  check(rest.residual <= 1e-9, "BLCP residual at rest", rest.residual, 0);
+  check(rest.solve.residual <= 1e-9, "BLCP residual at rest", rest.solve.residual, 0);
   // At rest the floor's contacts carry the weight: their impulses over a step sum to m g h.
   double impulse = 0;
   for (const ContactImpulse& c : world.contacts()) impulse += c.impulse().z();

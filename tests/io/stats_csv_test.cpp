@@ -32,20 +32,20 @@ StepStats numbered_stats() {
   s.contacts = 3;
   s.rows = 4;
   s.islands = 5;
-  s.parts = 6;
-  s.interface_rows = 7;
-  s.interface_bodies = 8;
-  s.edge_cut = 9;
+  s.partition.parts = 6;
+  s.partition.interface_rows = 7;
+  s.partition.interface_bodies = 8;
+  s.partition.edge_cut = 9;
   s.profile = {10.5, 11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17.5, 18.5};
-  s.solver_iterations = 19;
-  s.factorizations = 20;
-  s.residual = 1.0 / 3.0 * 1e-12;
+  s.solve.iterations = 19;
+  s.solve.factorizations = 20;
+  s.solve.residual = 1.0 / 3.0 * 1e-12;
   s.max_penetration = 0.1 + 0.2;
   s.kinetic_energy = 2.0 / 7.0 * 1e3;
-  s.factor_ms = 24.5;
-  s.work_ms = 25.5;
-  s.critical_path_ms = 26.5;
-  s.unsettled = 27;
+  s.solve.factor_ms = 24.5;
+  s.solve.work_ms = 25.5;
+  s.solve.critical_path_ms = 26.5;
+  s.solve.unsettled = 27;
   return s;
 }
 
@@ -89,7 +89,7 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
     const double expected = ((c >= 9 && c <= 17) || (c >= 23 && c <= 25)) ? c + 1.5 : c + 1;
     EXPECT_EQ(std::strtod(row[c].c_str(), nullptr), expected) << StatsCsvWriter::kColumns[c];
   }
-  EXPECT_EQ(std::strtod(row[20].c_str(), nullptr), first.residual);
+  EXPECT_EQ(std::strtod(row[20].c_str(), nullptr), first.solve.residual);
   EXPECT_EQ(std::strtod(row[21].c_str(), nullptr), first.max_penetration);
   EXPECT_EQ(std::strtod(row[22].c_str(), nullptr), first.kinetic_energy);
 

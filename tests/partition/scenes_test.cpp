@@ -89,11 +89,11 @@ TEST(SceneGraphs, WorldPartitionsEveryStepAndReportsTheQuality) {
     refine_partition(g, params, expect);
     ASSERT_EQ(world_partition(world).part_of, expect.part_of) << "step " << s.step;
     const PartitionQuality q = measure_partition(g, expect);
-    EXPECT_EQ(s.parts, q.parts);
-    EXPECT_EQ(s.edge_cut, q.edge_cut);
-    EXPECT_EQ(s.interface_rows, q.interface_rows);
-    EXPECT_EQ(s.interface_bodies, q.interface_bodies);
-    steps_with_cut += s.edge_cut > 0;
+    EXPECT_EQ(s.partition.parts, q.parts);
+    EXPECT_EQ(s.partition.edge_cut, q.edge_cut);
+    EXPECT_EQ(s.partition.interface_rows, q.interface_rows);
+    EXPECT_EQ(s.partition.interface_bodies, q.interface_bodies);
+    steps_with_cut += s.partition.edge_cut > 0;
   }
   EXPECT_GT(steps_with_cut, 0);
 }
@@ -102,8 +102,8 @@ TEST(SceneGraphs, WithoutAPartitionerThePartsAreTheIslands) {
   World world(make_builtin_scene("rock_pile", {{"rocks", "20"}}), {}, pgs());
   for (int i = 0; i < 60; ++i) {
     const StepStats& s = world.step();
-    EXPECT_EQ(s.parts, s.islands);
-    EXPECT_EQ(s.edge_cut, 0);
+    EXPECT_EQ(s.partition.parts, s.islands);
+    EXPECT_EQ(s.partition.edge_cut, 0);
     EXPECT_EQ(s.profile.partition_ms, 0);
     EXPECT_EQ(s.profile.refine_ms, 0);
   }

@@ -70,7 +70,7 @@ TEST(SolveNewton, RestingBoxHasTheSymmetricAnalyticImpulses) {
   Scene s;
   add_box(s, 2.0, 0.5, 0.0, 0.5);
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_EQ(report.unsettled, 0);
   EXPECT_LE(report.residual, kSettledResidual);
   EXPECT_LE(report.factorizations, SolverParams{}.max_factorizations);
@@ -85,7 +85,7 @@ TEST(SolveNewton, SlidingBoxFeelsCoulombFrictionOnEveryContact) {
   const double m = 3.0, mu = 0.3, vx = 2.0;
   add_box(s, m, 0.4, vx, mu);  // too fast to stop within one step: friction saturates
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_EQ(report.unsettled, 0);
   EXPECT_LE(report.residual, kSettledResidual);
   for (std::size_t j = 0; j < s.rows.size(); ++j) {
@@ -103,18 +103,18 @@ TEST(SolveNewton, SlidingBoxFeelsCoulombFrictionOnEveryContact) {
 TEST(SolveNewton, RestingStackWithMassRatio1000SettlesWithinTheBudgetAndStaysSettledWarm) {
   Scene s = stack(false);
   SolverParams p;
-  const SolveReport cold = solve_newton_direct(s.rows, s.bodies, s.islands, p);
+  const SolveStats cold = solve_newton_direct(s.rows, s.bodies, s.islands, p);
   EXPECT_EQ(cold.unsettled, 0);
   EXPECT_LE(cold.residual, kSettledResidual);
   EXPECT_LE(cold.factorizations, p.max_factorizations);
   // Its own answer as the warm start: settled at once, with no factorisation.
-  const SolveReport warm = solve_newton_direct(s.rows, s.bodies, s.islands, p);
+  const SolveStats warm = solve_newton_direct(s.rows, s.bodies, s.islands, p);
   EXPECT_LE(warm.residual, kSettledResidual);
   EXPECT_EQ(warm.factorizations, 0);
   // A budget of one: at most one factorisation, and the report says whether it settled.
   Scene again = stack(true);
   p.max_factorizations = 1;
-  const SolveReport capped = solve_newton_direct(again.rows, again.bodies, again.islands, p);
+  const SolveStats capped = solve_newton_direct(again.rows, again.bodies, again.islands, p);
   EXPECT_LE(capped.factorizations, 1);
   EXPECT_EQ(capped.unsettled, capped.residual > kSettledResidual ? 1 : 0);
 }
@@ -129,7 +129,7 @@ TEST(SolveNewton, AnUnsettledAnswerIsAdmissible) {
     for (std::size_t j = 0; j < s.rows.size(); ++j) s.rows.lambda[j] = s.rows.kind[j] == RowKind::Normal ? -100.0 : 50.0;
     SolverParams p;
     p.max_factorizations = budget;
-    const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, p);
+    const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, p);
     if (report.unsettled == 0) continue;
     ++unsettled;
     for (std::size_t j = 0; j < s.rows.size(); ++j) {
@@ -152,7 +152,7 @@ TEST(SolveNewton, ResidualShowsALightBodysErrorBesideAHeavyOne) {
   add_box_on(s, -1, 10000.0, 0.5, 0.0, 0.5);
   add_box_on(s, 0, 1.0, 0.5, 0.05, 0.5);
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   ASSERT_LE(report.residual, kSettledResidual);
   const std::vector<int> local = local_row_index(s.rows, s.islands);
   IslandSystem system;
@@ -181,9 +181,9 @@ TEST(SolveNewton, TwoIslandsDenseAndSparseBackendsAgree) {
   Rows sparse_rows = s.rows;
   SolverParams params;
   params.dense_max_bodies = 100;
-  const SolveReport dense = solve_newton_direct(s.rows, s.bodies, s.islands, params);
+  const SolveStats dense = solve_newton_direct(s.rows, s.bodies, s.islands, params);
   params.dense_max_bodies = 0;
-  const SolveReport sparse = solve_newton_direct(sparse_rows, s.bodies, s.islands, params);
+  const SolveStats sparse = solve_newton_direct(sparse_rows, s.bodies, s.islands, params);
   EXPECT_EQ(dense.unsettled + sparse.unsettled, 0);
   EXPECT_LE(dense.residual, kSettledResidual);
   EXPECT_LE(sparse.residual, kSettledResidual);
@@ -192,7 +192,7 @@ TEST(SolveNewton, TwoIslandsDenseAndSparseBackendsAgree) {
     EXPECT_NEAR(sparse_rows.lambda[j], s.rows.lambda[j], 1e-9 * std::max(1.0, std::abs(s.rows.lambda[j])));
     EXPECT_EQ(sparse_rows.state[j], s.rows.state[j]);
   }
-  const SolveReport again = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats again = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_LE(again.residual, kSettledResidual);
   EXPECT_EQ(again.factorizations, 0);
 }
@@ -210,7 +210,7 @@ TEST(SolveNewton, BoxSlidingAndSpinningOnABoxFeelsCoulombFrictionAtEveryCorner) 
   add_box_on(s, 0, m_top, a, 1.5, mu_top, 0.0, 1.0);
   finish(s);
   ASSERT_EQ(s.islands.count(), 1u);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_EQ(report.unsettled, 0);
   EXPECT_LE(report.residual, kSettledResidual);
   double normal = 0;

@@ -31,7 +31,7 @@ TEST(SolvePgs, ApproachesTheDirectAnswerAsSweepsGrow) {
     params.kind = SolverKind::Pgs;
     params.pgs_iterations = sweeps;
     params.pgs_tolerance = 0;
-    const SolveReport report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
+    const SolveStats report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
     EXPECT_EQ(report.iterations, 2 * sweeps);  // two islands
     double error = 0;
     for (int b = 0; b < 2; ++b) error = std::max(error, (velocity_after(pgs, b) - velocity_after(direct, b)).norm());
@@ -52,7 +52,7 @@ TEST(SolvePgs, ApproachesTheDirectAnswerAsSweepsGrow) {
   SolverParams params;
   params.pgs_iterations = 100000;
   params.pgs_tolerance = 1e-6;
-  const SolveReport report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
+  const SolveStats report = solve_pgs(pgs.rows, pgs.bodies, pgs.islands, params);
   EXPECT_LT(report.iterations, 2 * 100000);
   EXPECT_GT(report.iterations, 2);
 }

@@ -40,7 +40,7 @@ TEST(NaturalMapResidual, DetectsAPerturbedSolution) {
   Scene s;
   add_box(s, 2.0, 0.5, 0.0, 0.5);
   finish(s);
-  const SolveReport report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  const SolveStats report = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   ASSERT_LE(report.residual, kSettledResidual);
   EXPECT_EQ(natural_map_residual(s.rows, s.bodies, s.islands), report.residual);
   // Doubling one normal impulse: w_j = lambda_j A_jj (the others' share stays), so r_j A_jj / s is

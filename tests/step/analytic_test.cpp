@@ -38,8 +38,8 @@ class Analytic : public ::testing::TestWithParam<SolverKind> {
   // One step, checked to have settled within the budget.
   static const StepStats& step(World& w) {
     const StepStats& s = w.step();
-    EXPECT_LE(s.residual, kSettledResidual) << "step " << s.step;
-    EXPECT_LE(s.factorizations, s.islands * w.solver_params().max_factorizations) << "step " << s.step;
+    EXPECT_LE(s.solve.residual, kSettledResidual) << "step " << s.step;
+    EXPECT_LE(s.solve.factorizations, s.islands * w.solver_params().max_factorizations) << "step " << s.step;
     return s;
   }
 };

@@ -82,14 +82,14 @@ TEST(SubstructuredWorld, StepsLikeTheDirectSolver) {
           const StepStats& d = direct.step();
           const StepStats& s = split.step();
           ASSERT_EQ(s.rows, d.rows);
-          EXPECT_LE(s.residual, d.residual + 1e-9);
-          EXPECT_GE(s.parts, s.islands);
+          EXPECT_LE(s.solve.residual, d.solve.residual + 1e-9);
+          EXPECT_GE(s.partition.parts, s.islands);
           // Work sums every part's time, the critical path keeps each parallel phase's slowest.
-          EXPECT_GE(s.work_ms, s.critical_path_ms);
-          interface_rows += s.interface_rows;
+          EXPECT_GE(s.solve.work_ms, s.solve.critical_path_ms);
+          interface_rows += s.partition.interface_rows;
           // An unsettled answer (the budget ran out) depends on the path taken, so the two solvers
           // part there by more than round-off.
-          settled = settled && d.residual <= 1e-9;
+          settled = settled && d.solve.residual <= 1e-9;
         }
         if (settled) {
           ++compared;
