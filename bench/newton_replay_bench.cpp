@@ -17,6 +17,7 @@
 #include "solve/island_system.hpp"
 #include "solve/monolithic.hpp"
 #include "solve/newton.hpp"
+#include "solve/newton_island.hpp"
 
 #include "scenes/scenes.hpp"
 #include "step/world_internals.hpp"
@@ -101,12 +102,9 @@ void BM_NewtonReplay(benchmark::State& state, const std::string& name) {
         s.gather(p.rows, p.bodies, p.islands, static_cast<int>(i), p.local_rows);
         MonolithicSystem system;
         system.assign(s, params.dense_max_bodies);
-        Eigen::VectorXd lambda(s.rows);
-        std::vector<RowState> row_state(s.rows);
-        for (int r = 0; r < s.rows; ++r) {
-          lambda[r] = p.rows.lambda[s.global_rows[r]];
-          row_state[r] = p.rows.state[s.global_rows[r]];
-        }
+        Eigen::VectorXd lambda;
+        std::vector<RowState> row_state;
+        island_warm_start(s, p.rows, lambda, row_state);
         NewtonWorkspace ws;
         const NewtonResult result = solve_newton(s, system, params.max_factorizations, lambda, row_state, ws);
         ++islands;

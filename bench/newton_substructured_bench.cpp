@@ -17,6 +17,7 @@
 #include "solve/island_system.hpp"
 #include "solve/monolithic.hpp"
 #include "solve/newton.hpp"
+#include "solve/newton_island.hpp"
 #include "solve/substructured_system.hpp"
 
 #include "core/timer.hpp"
@@ -72,12 +73,9 @@ const Pile& pile(Scene scene) {
     const IslandSystem& s = pile->island;
     RecordingSystem recorder;
     recorder.system.assign(s, SolverParams{}.dense_max_bodies);
-    Eigen::VectorXd lambda(s.rows);
-    std::vector<RowState> state(s.rows);
-    for (int r = 0; r < s.rows; ++r) {
-      lambda[r] = step.rows.lambda[s.global_rows[r]];
-      state[r] = step.rows.state[s.global_rows[r]];
-    }
+    Eigen::VectorXd lambda;
+    std::vector<RowState> state;
+    island_warm_start(s, step.rows, lambda, state);
     NewtonWorkspace ws;
     solve_newton(s, recorder, SolverParams{}.max_factorizations, lambda, state, ws);
     pile->pieces = recorder.pieces;

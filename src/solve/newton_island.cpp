@@ -25,6 +25,15 @@ bool solvable(const IslandSystem& s) {
 
 }  // namespace
 
+void island_warm_start(const IslandSystem& s, const Rows& rows, Eigen::VectorXd& lambda, std::vector<RowState>& state) {
+  lambda.resize(s.rows);
+  state.resize(s.rows);
+  for (int r = 0; r < s.rows; ++r) {
+    lambda[r] = rows.lambda[s.global_rows[r]];
+    state[r] = rows.state[s.global_rows[r]];
+  }
+}
+
 NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows,
                                  NewtonWorkspace& ws) {
   // A problem that cannot be posed (a hinge axis whose norm underflowed gives rows of zero
@@ -37,12 +46,7 @@ NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_
   }
   Eigen::VectorXd& lambda = ws.island_lambda;
   std::vector<RowState>& state = ws.island_state;
-  lambda.resize(s.rows);
-  state.resize(s.rows);
-  for (int r = 0; r < s.rows; ++r) {
-    lambda[r] = rows.lambda[s.global_rows[r]];
-    state[r] = rows.state[s.global_rows[r]];
-  }
+  island_warm_start(s, rows, lambda, state);
   const NewtonResult result = solve_newton(s, system, max_factorizations, lambda, state, ws);
   set_friction_bounds(s.coupling(), lambda, s.lo, s.hi);
   store_island_solution(s, lambda, state, rows);

@@ -19,6 +19,9 @@ void for_each_island(const Islands& islands, Fn&& fn) {
   parallel_for_each(islands.count(), [&](std::size_t t) { fn(order[t]); });
 }
 
+// The island's warm start: its rows' impulses and states from `rows`, in island numbering.
+void island_warm_start(const IslandSystem& s, const Rows& rows, Eigen::VectorXd& lambda, std::vector<RowState>& state);
+
 // Solves island `s` with `system` (assigned to s) and writes the impulses, states and final
 // friction bounds (into s.lo/s.hi too) of its answer into `rows`. Islands own disjoint rows, so
 // islands may run this in parallel on the same `rows`.
