@@ -100,8 +100,12 @@ bool BodySpaceSystem::factor(const Piece& piece) {
     if (equation_[k] == RowEquation::Free) inv_s_[k] = 1.0 / (s.sigma[j] + shift_[k]);
   }
   // A row's tie to its normal enters its impulse as tie_weight_k x_n: c_t (Tied), c_j / s_j (Free).
+  // (A row without a tie has none, even where 1 / s_j is not finite.)
   for (int k = 0; k < nr; ++k)
-    tie_weight_[k] = equation_[k] == RowEquation::Tied ? tie_[k] : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k] : 0.0;
+    tie_weight_[k] = tie_[k] == 0 ? 0.0
+                     : equation_[k] == RowEquation::Tied ? tie_[k]
+                     : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k]
+                                                         : 0.0;
   const auto add = [&](int k, int m, double scale) {
     const int j = rows_[k], n = rows_[m];
     for (int p = 0; p < 2; ++p) {

@@ -3,27 +3,7 @@
 #include "solve/bounds.hpp"
 #include "solve/residual.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 namespace rbpart {
-
-namespace {
-
-// Whether the solver can pose the island's problem: every coefficient finite and every row
-// regularised (the body-space systems divide by sigma_j).
-bool solvable(const IslandSystem& s) {
-  if (!s.q.allFinite() || !s.diag.allFinite()) return false;
-  for (int r = 0; r < s.rows; ++r) {
-    if (!(s.sigma[r] > 0) || !std::isfinite(s.sigma[r])) return false;
-    for (int slot = 0; slot < 2; ++slot)
-      if (!s.jac[r][slot].allFinite() || !s.mjac[r][slot].allFinite()) return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 void island_warm_start(const IslandSystem& s, const Rows& rows, Eigen::VectorXd& lambda, std::vector<RowState>& state) {
   lambda.resize(s.rows);
@@ -36,14 +16,6 @@ void island_warm_start(const IslandSystem& s, const Rows& rows, Eigen::VectorXd&
 
 NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_factorizations, Rows& rows,
                                  NewtonWorkspace& ws) {
-  // A problem that cannot be posed (a hinge axis whose norm underflowed gives rows of zero
-  // Jacobian, so zero regularisation) has no iterate of finite residual: the rows keep their warm
-  // start and the island reports an infinite residual, which stops the step (World::step).
-  if (!solvable(s)) {
-    NewtonResult result;
-    result.residual = std::numeric_limits<double>::infinity();
-    return result;
-  }
   Eigen::VectorXd& lambda = ws.island_lambda;
   std::vector<RowState>& state = ws.island_state;
   island_warm_start(s, rows, lambda, state);
