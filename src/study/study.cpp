@@ -133,9 +133,10 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
   std::string line;
   std::ifstream steps_file(dir / "steps.csv");
   std::getline(steps_file, line);
-  if (line + '\n' != steps_csv_header())
-    throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv");
   const std::vector<std::string> header = split(line);
+  if (const std::string missing = missing_steps_csv_column(header); !missing.empty())
+    throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv (no column " +
+                     missing + ")");
   std::map<std::string, std::vector<std::vector<std::string>>> rows;
   while (std::getline(steps_file, line)) {
     std::vector<std::string> fields = split(line);
@@ -148,9 +149,6 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
                     nmax = column("nmax"), threads = column("threads");
   const auto integer = [&](const std::vector<std::string>& v, const char* name) {
     return std::atoi(v[column(name)].c_str());
-  };
-  const auto number = [&](const std::vector<std::string>& v, const char* name) {
-    return std::strtod(v[column(name)].c_str(), nullptr);
   };
   try {
     for (const nlohmann::ordered_json& entry : machine.value("scenes", nlohmann::ordered_json::array())) {
@@ -183,10 +181,7 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
             r.rows.push_back(integer(v, "rows"));
           }
           complete = complete && r.steps[k] == integer(v, "step");
-          StepMeasure m;
-          for (const auto& [name, field] : kStepCounts) m.*field = integer(v, name);
-          for (const auto& [name, field] : kStepValues) m.*field = number(v, name);
-          r.replay.measures[c].push_back(m);
+          r.replay.measures[c].push_back(read_step_measure(header, v));
         }
       }
       if (complete) out.emplace(label, std::move(r));  // else not this study's configurations: measured again
@@ -252,7 +247,8 @@ class StudyWriter {
  private:
   std::string path(const char* name) const { return (std::filesystem::path(dir_) / name).string(); }
 
-  std::string context() const {
+  // The machine, the build and the revisions the scenes were measured at.
+  std::string machine_context() const {
     std::string threads;
     for (const int t : threads_) threads += (threads.empty() ? "" : ", ") + std::to_string(t);
     return "Preset `" + spec_.preset + "` on " + machine_.cpu + " (" + std::to_string(machine_.logical_cpus) +
@@ -260,12 +256,20 @@ class StudyWriter {
            (revisions_.size() > 1 || (revisions_.size() == 1 && *revisions_.begin() != revision())
                 ? " (scenes resumed from other revisions: machine.json gives each scene's)"
                 : "") +
-           ". Solver threads: " + threads +
-           ".\n\nEvery configuration solved the same recorded step problems (the direct solver's "
+           ". Solver threads: " + threads + ".";
+  }
+
+  std::string context() const {
+    const std::string most = std::to_string(kEstimateCores[kEstimates - 1]);
+    return machine_context() +
+           "\n\nEvery configuration solved the same recorded step problems (the direct solver's "
            "trajectory); times are the mean over the recorded steps of each step's median over " +
            std::to_string(spec_.repeats) + (spec_.repeats == 1 ? " run" : " runs") +
            ". *vs MinDP*: change of the mean solve time against MinDP without refinement, same steps and "
-           "repeats. Parts count sub-systems with at least one row (islands for the direct solver).\n";
+           "repeats. Parts count sub-systems with at least one row (islands for the direct solver). "
+           "*est. c cores*: the mean over the steps of max(critical path, work / c), a lower bound of the "
+           "substructured solve on c cores; *speed-up, " + most + " cores*: the direct solve's mean time "
+           "(measured, same threads) over the " + most + "-core estimate.\n";
   }
 
   nlohmann::ordered_json machine_json(bool complete) const {

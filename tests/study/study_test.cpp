@@ -1,11 +1,13 @@
 // The study (issue #6): recorded problems replay the live run exactly; a tiny study writes every
-// table row and figure; the relative column is the ratio of the per-step medians in steps.csv.
+// table row and figure; the relative column is the ratio of the per-step medians in steps.csv; the
+// estimates on more cores round-trip through bench --resume (issue #25).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <rbpart/world.hpp>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -18,11 +20,13 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/text_format.hpp"
 #include "partition/partition.hpp"
 #include "solve/solve.hpp"
 #include "step/world_internals.hpp"
 #include "study/capture.hpp"
 #include "study/figures.hpp"
+#include "study/report.hpp"
 #include "study/study.hpp"
 
 namespace rbpart {
@@ -278,6 +282,152 @@ TEST_F(TinyStudy, MeansAndTheRelativeColumnComeFromTheMediansInStepsCsv) {
   }
 }
 
+// est<c>_ms = max(critical_path_ms, work_ms / c) per step; table1's means are their means, and the
+// speed-up is the direct solve's mean over the 16-core estimate's.
+TEST_F(TinyStudy, EstimatesOnMoreCoresComeFromWorkAndCriticalPath) {
+  std::map<std::string, std::array<double, kEstimates>> sums;
+  std::map<std::string, int> counts;
+  for (const Row& r : read_csv(*dir_ / "steps.csv")) {
+    SCOPED_TRACE(key(r) + " step " + r.at("step"));
+    for (std::size_t k = 0; k < kEstimates; ++k) {
+      const std::string column = "est" + std::to_string(kEstimateCores[k]) + "_ms";
+      if (r.at("solver") == "direct") {
+        EXPECT_EQ(r.at(column), "");
+        continue;
+      }
+      const double work = std::stod(r.at("work_ms")), critical = std::stod(r.at("critical_path_ms"));
+      EXPECT_EQ(std::stod(r.at(column)), std::max(critical, work / kEstimateCores[k]));
+      sums[key(r)][k] += std::stod(r.at(column));
+    }
+    ++counts[key(r)];
+  }
+  const std::vector<Row> table = read_csv(*dir_ / "table1.csv");
+  std::map<std::string, double> direct;
+  for (const Row& r : table)
+    if (r.at("solver") == "direct") direct[r.at("scene")] = std::stod(r.at("mean_solve_ms"));
+  for (const Row& r : table) {
+    SCOPED_TRACE(key(r));
+    if (r.at("solver") == "direct") {
+      EXPECT_EQ(r.at("mean_est16_ms"), "");
+      EXPECT_EQ(r.at("est16_speedup_vs_direct"), "");
+      continue;
+    }
+    for (std::size_t k = 0; k < kEstimates; ++k)
+      EXPECT_DOUBLE_EQ(std::stod(r.at("mean_est" + std::to_string(kEstimateCores[k]) + "_ms")),
+                       sums.at(key(r))[k] / counts.at(key(r)));
+    EXPECT_DOUBLE_EQ(std::stod(r.at("est16_speedup_vs_direct")),
+                     direct.at(r.at("scene")) / std::stod(r.at("mean_est16_ms")));
+  }
+}
+
+// --- steps.csv through the reader of bench --resume, on hand-made measures ----------------------------
+
+std::vector<std::string> split_line(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    fields.push_back(line.substr(start, comma - start));
+  fields.push_back(line.substr(start));
+  return fields;
+}
+
+std::string join(const std::vector<std::string>& fields) {
+  std::string out;
+  for (const std::string& f : fields) out += (out.empty() ? "" : ",") + f;
+  return out;
+}
+
+// A scene of two configurations (the direct baseline and MIX+FM) over three steps, with times that
+// print in many digits, and steps bounded by the critical path and by the work.
+SceneResult hand_made_steps() {
+  SceneResult scene;
+  scene.label = "rock_pile:rocks=6";
+  scene.steps = {3, 6, 9};
+  scene.rows = {0, 12, 40};
+  scene.configs = {{PartitionerKind::None, RefinerKind::None, 0, 2}, {PartitionerKind::Mix, RefinerKind::Fm, 4, 2}};
+  StepMeasure d;
+  d.solve_ms = 0.1 + 0.2;
+  d.parts = 1;
+  d.factorizations = 3;
+  StepMeasure a;  // no rows: nothing to solve
+  a.solve_ms = 3e-5;
+  StepMeasure b;  // critical path bounds 4 cores and more
+  b.solve_ms = 1.0 / 3;
+  b.work_ms = 0.7;
+  b.critical_path_ms = 0.2;
+  b.parts = 3, b.interface_rows = 9, b.interface_bodies = 2, b.edge_cut = 3, b.factorizations = 2;
+  b.partition_ms = 1e-3 / 7, b.refine_ms = 2e-3 / 3, b.lambda_error = 1e-13 / 3;
+  StepMeasure c = b;  // work / c bounds 4 and 8 cores, the critical path 16
+  c.work_ms = 12.7;
+  c.critical_path_ms = 0.9;
+  c.unsettled = 1;
+  scene.replay.measures = {{d, d, d}, {a, b, c}};
+  return scene;
+}
+
+TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
+  const SceneResult scene = hand_made_steps();
+  const std::string text = steps_csv_rows(scene);
+  std::vector<std::string> header = split_line(steps_csv_header().substr(0, steps_csv_header().size() - 1));
+  EXPECT_EQ(missing_steps_csv_column(header), "");
+
+  // The estimates as written: empty for the baseline; max(critical path, work / c).
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 6u);
+  const auto field = [&](std::size_t line, const std::string& name) {
+    const std::vector<std::string> f = split_line(lines[line]);
+    return f.at(static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin()));
+  };
+  EXPECT_EQ(field(0, "est4_ms"), "");
+  EXPECT_EQ(field(0, "est16_ms"), "");
+  EXPECT_EQ(field(3, "est4_ms"), "0");
+  EXPECT_EQ(field(4, "est4_ms"), round_trip(0.2));
+  EXPECT_EQ(field(4, "est16_ms"), round_trip(0.2));
+  EXPECT_EQ(field(5, "est4_ms"), round_trip(12.7 / 4));
+  EXPECT_EQ(field(5, "est8_ms"), round_trip(12.7 / 8));
+  EXPECT_EQ(field(5, "est16_ms"), round_trip(0.9));
+
+  // Read back and written again: the same text, the estimates derived again from what was read.
+  const auto reread = [&](const std::vector<std::string>& h, const std::vector<std::string>& rows) {
+    SceneResult again = scene;
+    again.replay.measures.assign(2, {});
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      again.replay.measures[i / 3].push_back(read_step_measure(h, split_line(rows[i])));
+    return steps_csv_rows(again);
+  };
+  EXPECT_EQ(reread(header, lines), text);
+
+  // A steps.csv written before the estimates (its last three columns) reads to the same measures.
+  std::vector<std::string> old_header(header.begin(), header.end() - kEstimates), old_lines;
+  for (const std::string& line : lines) {
+    const std::vector<std::string> f = split_line(line);
+    old_lines.push_back(join(std::vector<std::string>(f.begin(), f.end() - kEstimates)));
+  }
+  EXPECT_EQ(missing_steps_csv_column(old_header), "");
+  EXPECT_EQ(reread(old_header, old_lines), text);
+  // The columns may come in any order; a measured one missing is named.
+  std::vector<std::string> shuffled = header;
+  std::swap(shuffled[0], shuffled[16]);
+  std::vector<std::string> shuffled_lines;
+  for (const std::string& line : lines) {
+    std::vector<std::string> f = split_line(line);
+    std::swap(f[0], f[16]);
+    shuffled_lines.push_back(join(f));
+  }
+  EXPECT_EQ(reread(shuffled, shuffled_lines), text);
+  header.erase(std::find(header.begin(), header.end(), "critical_path_ms"));
+  EXPECT_EQ(missing_steps_csv_column(header), "critical_path_ms");
+
+  // The table's means of the estimates, and the speed-up over the direct baseline's mean.
+  const std::vector<ConfigSummary> summary = summarize(scene);
+  const double est4 = (0 + 0.2 + 12.7 / 4) / 3, est16 = (0 + 0.2 + 0.9) / 3;
+  EXPECT_DOUBLE_EQ(summary[1].mean_estimate_ms[0], est4);
+  EXPECT_DOUBLE_EQ(summary[1].mean_estimate_ms[2], est16);
+  EXPECT_DOUBLE_EQ(summary[1].direct_over_estimate, (0.1 + 0.2) / est16);
+}
+
 std::string read_file(const fs::path& path) {
   std::ifstream in(path);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -304,6 +454,15 @@ TEST(StudyResume, KeepsFinishedScenesAndRefusesAnotherProtocol) {
   run_study(interrupted, dir.string(), nullptr);
   const std::vector<Row> before = read_csv(dir / "table1.csv");
   const std::string steps_before = read_file(dir / "steps.csv");
+  {  // as a study written before the estimates were added left it: they are derived again on resume
+    std::stringstream in(steps_before);
+    std::string old, line;
+    while (std::getline(in, line)) {
+      const std::vector<std::string> f = split_line(line);
+      old += join(std::vector<std::string>(f.begin(), f.end() - kEstimates)) + '\n';
+    }
+    std::ofstream(dir / "steps.csv") << old;
+  }
   const nlohmann::json machine_before = nlohmann::json::parse(read_file(dir / "machine.json"));
   ASSERT_EQ(before.size(), 3u);  // direct, BFS, MinDP
 
