@@ -478,7 +478,8 @@ void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log
   std::map<std::string, SceneResult> finished;
   if (resume) finished = finished_scenes(spec, configs, out_dir, started);
   // Figures of an earlier study in this directory would not match the new tables.
-  for (const char* figure : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"})
+  for (const char* figure :
+       {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg", "estimates.png", "estimates.svg"})
     std::filesystem::remove(std::filesystem::path(out_dir) / figure, ec);
   StudyWriter writer(spec, out_dir, configs, std::move(machine), started);
   writer.write(false);  // fails now, not after the run, if the directory cannot be written

@@ -247,7 +247,8 @@ TEST_F(TinyStudy, WritesEveryRowOfEveryTable) {
   EXPECT_EQ(machine.at("replay_check").at("bit_identical_to_live_run").get<int>(), 16);
   // Nothing but the outputs: no temporary files are left behind by the atomic writers.
   const std::set<std::string> outputs = {"machine.json", "table1.csv", "table1.md", "steps.csv", "scaling.csv",
-                                         "fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"};
+                                         "fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png",
+                                         "fig5.svg", "estimates.png", "estimates.svg"};
   for (const auto& entry : fs::directory_iterator(*dir_))
     EXPECT_TRUE(outputs.count(entry.path().filename().string())) << entry.path();
 }
@@ -495,7 +496,8 @@ TEST_F(TinyStudy, DrawsEveryFigure) {
   const std::string python = find_plot_python();
   if (python.empty()) GTEST_SKIP() << "no Python with matplotlib (Debian: python3-matplotlib): figures not checked";
   ASSERT_EQ(draw_figures(python, dir_->string()), 0);
-  for (const char* name : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"}) {
+  for (const char* name :
+       {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg", "estimates.png", "estimates.svg"}) {
     const fs::path path = *dir_ / name;
     ASSERT_TRUE(fs::exists(path)) << name;
     std::ifstream in(path, std::ios::binary);
