@@ -1,6 +1,7 @@
 // The study (issue #6): recorded problems replay the live run exactly; a tiny study writes every
 // table row and figure; the relative column is the ratio of the per-step medians in steps.csv; the
-// estimates on more cores round-trip through bench --resume (issue #25).
+// estimates on more cores round-trip through bench --resume; claims.md's verdicts follow the rules
+// of docs/study.md on hand-made results (issue #25).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <rbpart/world.hpp>
@@ -25,6 +26,7 @@
 #include "solve/solve.hpp"
 #include "step/world_internals.hpp"
 #include "study/capture.hpp"
+#include "study/claims.hpp"
 #include "study/figures.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
@@ -237,6 +239,19 @@ TEST_F(TinyStudy, WritesEveryRowOfEveryTable) {
   for (std::size_t at = text.find("\n| "); at != std::string::npos; at = text.find("\n| ", at + 1)) ++table_lines;
   EXPECT_EQ(table_lines, 3 * (configs.size() + 1));  // + each table's header line
 
+  // claims.md: a row per claim, the tiny study's scenes matched by kind (no large_rock_pile).
+  std::ifstream claims_file(*dir_ / "claims.md");
+  const std::string claims((std::istreambuf_iterator<char>(claims_file)), std::istreambuf_iterator<char>());
+  std::size_t claim_rows = 0;
+  for (std::size_t at = claims.find("\n| ("); at != std::string::npos; at = claims.find("\n| (", at + 1)) ++claim_rows;
+  EXPECT_EQ(claim_rows, 11u);
+  EXPECT_NE(claims.find("| (c) Large Rock Pile: MIX+FM against unrefined MinDP | −35 % (Table 1, Fig. 3) | no "
+                        "large_rock_pile scene in this run | not measured |"),
+            std::string::npos)
+      << claims;
+  EXPECT_NE(claims.find("(log_tower:layers=3, "), std::string::npos) << claims;
+  EXPECT_NE(claims.find(" at 6, "), std::string::npos) << claims;  // the scaling, by rock count
+
   std::ifstream machine_file(*dir_ / "machine.json");
   const nlohmann::json machine = nlohmann::json::parse(machine_file);
   for (const char* field : {"cpu", "logical_cpus", "threads", "compiler", "build_type", "git_revision", "git_dirty"})
@@ -247,7 +262,7 @@ TEST_F(TinyStudy, WritesEveryRowOfEveryTable) {
   EXPECT_EQ(machine.at("replay_check").at("bit_identical_to_live_run").get<int>(), 16);
   // Nothing but the outputs: no temporary files are left behind by the atomic writers.
   const std::set<std::string> outputs = {"machine.json", "table1.csv", "table1.md", "steps.csv", "scaling.csv",
-                                         "fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png",
+                                         "claims.md", "fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png",
                                          "fig5.svg", "estimates.png", "estimates.svg"};
   for (const auto& entry : fs::directory_iterator(*dir_))
     EXPECT_TRUE(outputs.count(entry.path().filename().string())) << entry.path();
@@ -506,6 +521,149 @@ TEST_F(TinyStudy, DrawsEveryFigure) {
     if (path.extension() == ".png") EXPECT_EQ(head, "\x89PNG\r\n\x1a\n") << name;
     else EXPECT_GT(fs::file_size(path), 1000u) << name;
   }
+}
+
+// --- claims.md: the verdict rules (docs/study.md), on hand-made results, not on timings -------------
+
+TEST(Claims, VerdictRules) {
+  // A relative change against the paper's: same sign and within a factor of 2; opposite sign; none.
+  EXPECT_EQ(change_verdict(-0.31, -0.16), Verdict::Reproduced);
+  EXPECT_EQ(change_verdict(-0.31, -0.62), Verdict::Reproduced);
+  EXPECT_EQ(change_verdict(-0.12, -0.66), Verdict::NotReproduced);  // far larger
+  EXPECT_EQ(change_verdict(-0.46, -0.07), Verdict::NotReproduced);  // far smaller
+  EXPECT_EQ(change_verdict(-0.31, -0.04), Verdict::NotReproduced);  // no change
+  EXPECT_EQ(change_verdict(-0.31, +0.04), Verdict::NotReproduced);  // no change either way
+  EXPECT_EQ(change_verdict(-0.12, +0.06), Verdict::Contradicted);
+  // A claimed winner: fastest; beaten by more than 10 %; beaten by less.
+  EXPECT_EQ(winner_verdict(1.0, 1.0), Verdict::Reproduced);
+  EXPECT_EQ(winner_verdict(1.0, 2.0), Verdict::Reproduced);
+  EXPECT_EQ(winner_verdict(1.05, 1.0), Verdict::NotReproduced);
+  EXPECT_EQ(winner_verdict(1.2, 1.0), Verdict::Contradicted);
+  // Gains at every size: of one size within a factor of 2; spread further; none at one size; a loss.
+  EXPECT_EQ(size_independence_verdict({-0.4, -0.3, -0.45}), Verdict::Reproduced);
+  EXPECT_EQ(size_independence_verdict({-0.4, -0.1}), Verdict::NotReproduced);
+  EXPECT_EQ(size_independence_verdict({-0.4, -0.01, -0.4}), Verdict::NotReproduced);
+  EXPECT_EQ(size_independence_verdict({-0.4, +0.1}), Verdict::Contradicted);
+  EXPECT_EQ(size_independence_verdict({-0.4}), Verdict::NotMeasured);
+  // An absolute time: within a factor of 2, else not reproduced (never contradicted).
+  EXPECT_EQ(time_verdict(4, 7.9), Verdict::Reproduced);
+  EXPECT_EQ(time_verdict(4, 2.1), Verdict::Reproduced);
+  EXPECT_EQ(time_verdict(4, 55.8), Verdict::NotReproduced);
+  EXPECT_EQ(time_verdict(4, 0.47), Verdict::NotReproduced);
+}
+
+using Times = std::vector<std::tuple<PartitionerKind, RefinerKind, double>>;
+
+// A scene whose configurations (and a direct baseline of 1 ms) took these mean solve times, over
+// two recorded steps of 0.5 and 1.5 times the mean. Thread count 1, n_max 8; `other` configurations
+// at 2 threads (or n_max 16) are added at 1000 ms each, which the claims must not read.
+SceneResult made_scene(const std::string& label, const Times& times, int rocks = 0) {
+  SceneResult scene;
+  scene.label = label;
+  scene.rocks = rocks;
+  scene.dynamic_bodies = rocks > 0 ? rocks : 30;
+  scene.steps = {2, 4};
+  scene.rows = {10, 10};
+  const auto add = [&scene](const StudyConfig& c, double ms) {
+    scene.configs.push_back(c);
+    StepMeasure low, high;
+    low.solve_ms = 0.5 * ms;
+    high.solve_ms = 1.5 * ms;
+    scene.replay.measures.push_back({low, high});
+  };
+  add({PartitionerKind::None, RefinerKind::None, 0, 1}, 1.0);
+  for (const auto& [p, r, ms] : times) add({p, r, 8, 1}, ms);
+  for (const auto& [p, r, ms] : times) add({p, r, 16, 1}, 1000);
+  add({PartitionerKind::None, RefinerKind::None, 0, 2}, 1000);
+  for (const auto& [p, r, ms] : times) add({p, r, 8, 2}, 1000);
+  return scene;
+}
+
+const ClaimCheck& claim_starting(const std::vector<ClaimCheck>& claims, const std::string& start) {
+  for (const ClaimCheck& c : claims)
+    if (c.claim.rfind(start, 0) == 0) return c;
+  static const ClaimCheck none{"missing: " + start, "", "", "", Verdict::NotMeasured};
+  ADD_FAILURE() << "no claim " << start;
+  return none;
+}
+
+TEST(Claims, EveryVerdictFromHandMadeResults) {
+  using P = PartitionerKind;
+  using R = RefinerKind;
+  // Labels of the quick preset: matched by the scene's kind, whatever its parameters.
+  const std::vector<SceneResult> table1 = {
+      // MIX the fastest unrefined: (a) reproduced; MinDP 5 ms: (e) about 4 ms reproduced; BFS+FM
+      // beaten by more than 10 % by MIX+KL: (e) contradicted.
+      made_scene("chain_drop:links=30:height=1.15:bar_height=1",
+                 {{P::Bfs, R::None, 6}, {P::MinDp, R::None, 5}, {P::Mix, R::None, 4.5}, {P::Mix, R::Kl, 3},
+                  {P::Bfs, R::Fm, 3.5}, {P::Metis, R::None, 1}}),
+      // BFS fastest but MIX within 10 %: (a) not reproduced; FM -30 %: (b) reproduced; KL +20 %:
+      // (b) contradicted.
+      made_scene("log_tower:layers=8", {{P::Bfs, R::None, 9.5}, {P::MinDp, R::None, 20}, {P::Mix, R::None, 10},
+                                        {P::MinDp, R::Fm, 14}, {P::MinDp, R::Kl, 24}}),
+      // MR faster than MinDP and MIX by more than 10 %: (a) contradicted; MIX+FM -3 %: (c) no change.
+      made_scene("rock_pile:rocks=60:layers=4", {{P::Mr, R::None, 10}, {P::MinDp, R::None, 12}, {P::Mix, R::None, 12.5},
+                                                 {P::Mix, R::Fm, 11.64}}),
+  };
+  // The scaling: MIX+FM -40 %, -30 %, -45 % against MinDP.
+  const std::vector<SceneResult> scaling = {
+      made_scene("rock_pile:rocks=30:layers=4", {{P::MinDp, R::None, 10}, {P::Mix, R::Fm, 6}}, 30),
+      made_scene("rock_pile:rocks=60:layers=4", {{P::MinDp, R::None, 10}, {P::Mix, R::Fm, 7}}, 60),
+      made_scene("rock_pile:rocks=120:layers=4", {{P::MinDp, R::None, 10}, {P::Mix, R::Fm, 5.5}}, 120)};
+  const std::vector<ClaimCheck> claims = check_claims(table1, scaling);
+  ASSERT_EQ(claims.size(), 11u);
+
+  EXPECT_EQ(claim_starting(claims, "(a) MinDP and MIX are the best partitioners: Chain Drop").verdict,
+            Verdict::Reproduced);
+  EXPECT_EQ(claim_starting(claims, "(a) MinDP and MIX are the best partitioners: Log Tower").verdict,
+            Verdict::NotReproduced);
+  EXPECT_EQ(claim_starting(claims, "(a) MinDP and MIX are the best partitioners: Rock Pile").verdict,
+            Verdict::Contradicted);
+  // No large_rock_pile scene: the rock_pile is not taken for it.
+  EXPECT_EQ(claim_starting(claims, "(a) MinDP and MIX are the best partitioners: Large Rock Pile").verdict,
+            Verdict::NotMeasured);
+  EXPECT_EQ(claim_starting(claims, "(b) Log Tower: FM").verdict, Verdict::Reproduced);
+  EXPECT_EQ(claim_starting(claims, "(b) Log Tower: KL").verdict, Verdict::Contradicted);
+  EXPECT_EQ(claim_starting(claims, "(c) Rock Pile").verdict, Verdict::NotReproduced);
+  EXPECT_EQ(claim_starting(claims, "(c) Large Rock Pile").verdict, Verdict::NotMeasured);
+  EXPECT_EQ(claim_starting(claims, "(d)").verdict, Verdict::Reproduced);
+  EXPECT_EQ(claim_starting(claims, "(e) Chain Drop takes about 4 ms").verdict, Verdict::Reproduced);
+  EXPECT_EQ(claim_starting(claims, "(e) BFS+FM").verdict, Verdict::Contradicted);
+
+  // Our figures, from the means (0.5 and 1.5 times the given time: the given time).
+  EXPECT_NE(claim_starting(claims, "(b) Log Tower: FM").ours.find("−30 %: MinDP+FM 14.0 ms, MinDP 20.0 ms"),
+            std::string::npos)
+      << claim_starting(claims, "(b) Log Tower: FM").ours;
+  EXPECT_NE(claim_starting(claims, "(d)").ours.find("−40 % at 30, −30 % at 60, −45 % at 120 rocks"), std::string::npos)
+      << claim_starting(claims, "(d)").ours;
+  // METIS is the paper's reference, not a candidate, but shown when it is faster still.
+  EXPECT_NE(claim_starting(claims, "(a) MinDP and MIX are the best partitioners: Chain Drop").ours.find(
+                "METIS (reference) 1.00 ms"),
+            std::string::npos);
+
+  // A scene without the claimed configuration, and a scaling of one size: not measured.
+  const std::vector<ClaimCheck> sparse =
+      check_claims({made_scene("log_tower", {{P::MinDp, R::None, 20}, {P::Mix, R::None, 10}})}, {scaling[0]});
+  EXPECT_EQ(claim_starting(sparse, "(a) MinDP and MIX are the best partitioners: Log Tower").verdict,
+            Verdict::NotMeasured);  // nothing to beat
+  EXPECT_EQ(claim_starting(sparse, "(b) Log Tower: FM").verdict, Verdict::NotMeasured);
+  EXPECT_EQ(claim_starting(sparse, "(d)").verdict, Verdict::NotMeasured);
+  // The large pile is not taken for the Rock Pile either.
+  const std::vector<ClaimCheck> large =
+      check_claims({made_scene("large_rock_pile", {{P::MinDp, R::None, 20}, {P::Mix, R::Fm, 13}})}, {});
+  EXPECT_EQ(claim_starting(large, "(c) Rock Pile").verdict, Verdict::NotMeasured);
+  EXPECT_EQ(claim_starting(large, "(c) Large Rock Pile").verdict, Verdict::Reproduced);
+
+  // claims.md: a row per claim, and the count of each verdict.
+  const std::string md = claims_markdown(claims, "context");
+  std::size_t rows = 0;
+  for (std::size_t at = md.find("\n| ("); at != std::string::npos; at = md.find("\n| (", at + 1)) ++rows;
+  EXPECT_EQ(rows, 11u);
+  EXPECT_NE(md.find("4 reproduced, 2 not reproduced, 3 contradicted, 2 not measured.\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| (b) Log Tower: KL against unrefined MinDP | −12 % (Table 1, Fig. 5) | +20 %: MinDP+KL 24.0 ms, "
+                    "MinDP 20.0 ms (log_tower:layers=8, 30 bodies) | contradicted | table1.md, fig5 |"),
+            std::string::npos)
+      << md;
 }
 
 }  // namespace
