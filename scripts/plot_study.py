@@ -3,12 +3,16 @@
 
 usage: /usr/bin/python3 scripts/plot_study.py DIR
 
-Reads DIR/table1.csv, DIR/scaling.csv, DIR/steps.csv and DIR/machine.json; writes DIR/fig3, fig4 and
-fig5 as .png and .svg (each written to a temporary name and renamed, so a figure is whole or absent).
+Reads DIR/table1.csv, DIR/scaling.csv, DIR/steps.csv and DIR/machine.json; writes DIR/fig3, fig4,
+fig5 and estimates as .png and .svg (each written to a temporary name and renamed, so a figure is whole or absent).
 fig3: mean solve time of every combination, per scene (grouped bars).
 fig4: Rock Pile solve time against rock count, one line per combination.
 fig5: Log Tower solve time per step, MinDP with none, KL and FM.
-Where a study varies n_max or threads, the figures show the first value of each (docs/study.md).
+estimates: per Table 1 scene and configuration, the measured solve time at every thread count the
+study ran beside the estimates on 8 and 16 cores, max(critical path, work / cores), with their
+min-max over the recorded steps.
+Where a study varies n_max or threads, the figures show the first value of each (docs/study.md);
+the estimates figure shows every thread count measured, and the estimates of the fewest threads.
 Needs matplotlib (Debian: python3-matplotlib, with the system /usr/bin/python3).
 """
 import csv
@@ -180,6 +184,78 @@ def figure5(directory, steps, machine):
     return None
 
 
+ESTIMATE_CORES = (8, 16)  # of steps.csv's est<c>_ms columns
+THREAD_COLOURS = ["#4c72b0", "#8fb1e0", "#2a4a7f", "#c6d7ef"]
+ESTIMATE_COLOURS = {8: "#dd8452", 16: "#c44e52"}
+
+
+def spread(values):
+    """(mean, min, max) of the values."""
+    return sum(values) / len(values), min(values), max(values)
+
+
+def figure_estimates(directory, table, steps, machine):
+    """Measured solve time at each thread count beside the 8- and 16-core estimates, per scene."""
+    scenes = list(dict.fromkeys(r["scene"] for r in table))
+    nmax, _ = selection(table)
+    if not scenes or nmax is None:
+        return "no Table 1 rows"
+    if not steps or any("est{}_ms".format(c) not in steps[0] for c in ESTIMATE_CORES):
+        return "steps.csv has no estimate columns"
+    threads = sorted({r["threads"] for r in steps}, key=int)
+    fewest = threads[0]
+    series = [("measured, {} thread{}".format(t, "" if t == "1" else "s"), "solve_ms", t, "o",
+               THREAD_COLOURS[i % len(THREAD_COLOURS)]) for i, t in enumerate(threads)]
+    series += [("estimate, {} cores".format(c), "est{}_ms".format(c), fewest, "v", ESTIMATE_COLOURS[c])
+               for c in ESTIMATE_CORES]
+    fig, axes = plt.subplots(len(scenes), 1, figsize=(13, 3.9 * len(scenes)), squeeze=False)
+    for ax, scene in zip(axes.flat, scenes):
+        # Steps with rows only: a step with nothing to solve is no measurement of a solver.
+        here = [r for r in steps if r["scene"] == scene and int(r["rows"]) > 0 and
+                (r["solver"] == "direct" or r["nmax"] == nmax)]
+        sub = [r for r in here if r["solver"] == "substructured"]
+        configs = [("direct", "none", "none")]
+        for p in order([r["partitioner"] for r in sub], PARTITIONERS):
+            for refiner in order([r["refine"] for r in sub if r["partitioner"] == p], REFINERS):
+                configs.append(("substructured", p, refiner))
+        width = 0.8 / len(series)
+        for k, (label, column, t, marker, colour) in enumerate(series):
+            xs, ys, lo, hi = [], [], [], []
+            for i, (solver, p, refiner) in enumerate(configs):
+                values = [float(r[column]) for r in here if r["solver"] == solver and r["threads"] == t and
+                          (solver == "direct" or (r["partitioner"] == p and r["refine"] == refiner)) and r[column]]
+                values = [v for v in values if v > 0]
+                if not values:
+                    continue
+                mean, low, high = spread(values)
+                xs.append(i - 0.4 + (k + 0.5) * width)
+                ys.append(mean)
+                lo.append(mean - low)
+                hi.append(high - mean)
+            ax.errorbar(xs, ys, yerr=[lo, hi], fmt=marker, color=colour, markersize=5, capsize=2, elinewidth=1,
+                        label=label)
+        ax.set_yscale("log")
+        ax.set_xticks(range(len(configs)))
+        ax.set_xticklabels(["direct" if solver == "direct" else combination({"partitioner": p, "refine": refiner})
+                            for solver, p, refiner in configs], rotation=30, ha="right", fontsize=8)
+        ax.set_xlim(-0.6, len(configs) - 0.4)
+        ax.set_ylabel("solve time per step (ms)")
+        bodies = [r["dynamic_bodies"] for r in table if r["scene"] == scene]
+        ax.set_title("{} ({} bodies)".format(scene, bodies[0] if bodies else "?"), fontsize=10)
+        ax.grid(axis="y", which="both", alpha=0.3)
+        ax.set_axisbelow(True)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01), frameon=False)
+    fig.suptitle("Measured solve time beside its estimates on 8 and 16 cores, max(critical path, work / cores)\n"
+                 "markers: mean over the recorded steps with rows; bars: min to max; estimates from {} thread{}\n"
+                 .format(fewest, "" if fewest == "1" else "s") + subtitle(machine, nmax, ", ".join(threads)),
+                 fontsize=11)
+    height = fig.get_size_inches()[1]
+    fig.tight_layout(rect=(0, 0.35 / height, 1, 1 - 0.65 / height))  # room for the legend and the title
+    save(fig, directory, "estimates")
+    return None
+
+
 def main(argv):
     if len(argv) != 2:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
@@ -194,8 +270,12 @@ def main(argv):
     except (OSError, ValueError) as e:
         print("plot_study: {}".format(e), file=sys.stderr)
         return 2
-    for name, draw, data in (("fig3", figure3, table), ("fig4", figure4, scaling), ("fig5", figure5, steps)):
-        skipped = draw(directory, data, machine)
+    figures = (("fig3", lambda: figure3(directory, table, machine)),
+               ("fig4", lambda: figure4(directory, scaling, machine)),
+               ("fig5", lambda: figure5(directory, steps, machine)),
+               ("estimates", lambda: figure_estimates(directory, table, steps, machine)))
+    for name, draw in figures:
+        skipped = draw()
         if skipped:
             print("plot_study: {} not drawn: {}".format(name, skipped), file=sys.stderr)
             for ext in ("png", "svg"):  # a figure of an earlier study would not match these tables

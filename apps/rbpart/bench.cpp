@@ -53,7 +53,8 @@ StudySpec study_spec(const Options& o, const CLI::App& cmd) {
 int run_bench(const Options& o, const CLI::App& cmd) {
   const StudySpec spec = study_spec(o, cmd);
   run_study(spec, o.out, stderr, o.resume);
-  std::printf("bench: tables in %s (table1.md, table1.csv, steps.csv, scaling.csv, machine.json)\n", o.out.c_str());
+  std::printf("bench: tables in %s (table1.md, table1.csv, steps.csv, scaling.csv, claims.md, machine.json)\n",
+              o.out.c_str());
   if (o.no_plots) return 0;
   const std::string script = plot_script_path();
   const std::string python = find_plot_python();

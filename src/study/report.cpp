@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "io/text_format.hpp"
 #include "partition/partition.hpp"
@@ -19,10 +20,35 @@ std::string key_columns(const std::string& scene, const StudyConfig& c) {
          (c.direct() ? "" : std::to_string(c.nmax)) + ',' + std::to_string(c.threads);
 }
 
-const char* kSummaryColumns =
-    "scene,solver,partitioner,refine,nmax,threads,dynamic_bodies,simulated_steps,recorded_steps,mean_solve_ms,"
-    "median_solve_ms,max_solve_ms,mean_partition_ms,mean_refine_ms,mean_work_ms,mean_critical_path_ms,mean_parts,mean_interface_rows,"
-    "mean_interface_bodies,mean_edge_cut,mean_factorizations,unsettled,solve_vs_mindp,max_lambda_error\n";
+// The key columns' names, and steps.csv's columns between them and the measured ones.
+constexpr const char* kKeyColumns[] = {"scene", "solver", "partitioner", "refine", "nmax", "threads"};
+constexpr const char* kStepColumns[] = {"step", "rows"};
+
+std::string key_header() {
+  std::string out;
+  for (const char* name : kKeyColumns) out += (out.empty() ? "" : ",") + std::string(name);
+  return out;
+}
+
+// `name`'s index in `header`; header.size() if it has none.
+std::size_t column_of(const std::vector<std::string>& header, const std::string& name) {
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+}
+
+// The estimates' column names: est4_ms, est8_ms, est16_ms (with `prefix`: mean_est4_ms, ...).
+std::string estimate_columns(const char* prefix) {
+  std::string out;
+  for (const int cores : kEstimateCores) out += std::string(",") + prefix + "est" + std::to_string(cores) + "_ms";
+  return out;
+}
+
+std::string summary_columns() {
+  return key_header() +
+         ",dynamic_bodies,simulated_steps,recorded_steps,mean_solve_ms,median_solve_ms,max_solve_ms,mean_partition_ms,"
+         "mean_refine_ms,mean_work_ms,mean_critical_path_ms,mean_parts,mean_interface_rows,mean_interface_bodies,"
+         "mean_edge_cut,mean_factorizations,unsettled,solve_vs_mindp,max_lambda_error" +
+         estimate_columns("mean_") + ",est" + std::to_string(kEstimateCores[kEstimates - 1]) + "_speedup_vs_direct\n";
+}
 
 std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
   const bool direct = s.config.direct();
@@ -35,6 +61,8 @@ std::string summary_line(const SceneResult& scene, const ConfigSummary& s) {
   for (const double v : {s.mean_parts, s.mean_interface_rows, s.mean_interface_bodies, s.mean_edge_cut})
     line += ',' + round_trip(v);
   line += ',' + round_trip(s.mean_factorizations) + ',' + std::to_string(s.unsettled) + ',' + round_trip(s.solve_vs_mindp) + ',' + round_trip(s.max_lambda_error);
+  for (const double v : s.mean_estimate_ms) line += ',' + (direct ? std::string() : round_trip(v));
+  line += ',' + (direct ? std::string() : round_trip(s.direct_over_estimate));
   return line + '\n';
 }
 
@@ -44,7 +72,8 @@ std::string format(const char* fmt, double value) {
   return buffer;
 }
 
-// "−46 %": the change of the mean solve time against MinDP unrefined, as the paper quotes it.
+}  // namespace
+
 std::string percent_change(double ratio) {
   if (!std::isfinite(ratio)) return "—";
   const long pct = std::lround(100 * (ratio - 1));
@@ -52,7 +81,7 @@ std::string percent_change(double ratio) {
   return (pct < 0 ? "−" : "+") + std::to_string(std::labs(pct)) + " %";
 }
 
-}  // namespace
+double estimated_ms(const StepMeasure& m, int cores) { return std::max(m.critical_path_ms, m.work_ms / cores); }
 
 std::vector<ConfigSummary> summarize(const SceneResult& scene) {
   const std::size_t n = scene.steps.size();
@@ -76,7 +105,10 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
       s.mean_factorizations += m.factorizations;
       s.unsettled += m.unsettled;
       s.max_lambda_error = std::max(s.max_lambda_error, m.lambda_error);
+      if (!s.config.direct())
+        for (std::size_t k = 0; k < kEstimates; ++k) s.mean_estimate_ms[k] += estimated_ms(m, kEstimateCores[k]);
     }
+    for (double& v : s.mean_estimate_ms) v = n > 0 ? v / static_cast<double>(n) : 0.0;
     for (double* v : {&s.mean_solve_ms, &s.mean_partition_ms, &s.mean_refine_ms, &s.mean_work_ms, &s.mean_critical_path_ms,
                       &s.mean_parts, &s.mean_interface_rows, &s.mean_interface_bodies, &s.mean_edge_cut,
                       &s.mean_factorizations})
@@ -94,12 +126,24 @@ std::vector<ConfigSummary> summarize(const SceneResult& scene) {
     }
     s.solve_vs_mindp = ref && ref->mean_solve_ms > 0 ? s.mean_solve_ms / ref->mean_solve_ms : NAN;
   }
+  // The speed-up of the estimate on the most cores: against the direct baseline of the same threads.
+  for (ConfigSummary& s : out) {
+    if (s.config.direct()) continue;
+    const ConfigSummary* direct = nullptr;
+    for (const ConfigSummary& r : out)
+      if (r.config.direct() && r.config.threads == s.config.threads && !direct) direct = &r;
+    const double estimate = s.mean_estimate_ms.back();
+    s.direct_over_estimate = direct && estimate > 0 ? direct->mean_solve_ms / estimate : NAN;
+  }
   return out;
 }
 
 std::string steps_csv_header() {
-  return "scene,solver,partitioner,refine,nmax,threads,step,rows,parts,interface_rows,interface_bodies,edge_cut,"
-         "factorizations,unsettled,partition_ms,refine_ms,solve_ms,work_ms,critical_path_ms,lambda_error\n";
+  std::string out = key_header();
+  for (const char* name : kStepColumns) out += std::string(",") + name;
+  for (const auto& [name, field] : kStepCounts) out += std::string(",") + name;
+  for (const auto& [name, field] : kStepValues) out += std::string(",") + name;
+  return out + estimate_columns("") + '\n';
 }
 
 std::string steps_csv_rows(const SceneResult& scene) {
@@ -111,21 +155,41 @@ std::string steps_csv_rows(const SceneResult& scene) {
       out += key + ',' + std::to_string(scene.steps[s]) + ',' + std::to_string(scene.rows[s]);
       for (const auto& [name, field] : kStepCounts) out += ',' + std::to_string(m.*field);
       for (const auto& [name, field] : kStepValues) out += ',' + round_trip(m.*field);
+      for (const int cores : kEstimateCores)
+        out += ',' + (scene.configs[c].direct() ? std::string() : round_trip(estimated_ms(m, cores)));
       out += '\n';
     }
   }
   return out;
 }
 
+std::string missing_steps_csv_column(const std::vector<std::string>& header) {
+  std::vector<std::string> needed(std::begin(kKeyColumns), std::end(kKeyColumns));
+  needed.insert(needed.end(), std::begin(kStepColumns), std::end(kStepColumns));
+  for (const auto& [name, field] : kStepCounts) needed.emplace_back(name);
+  for (const auto& [name, field] : kStepValues) needed.emplace_back(name);
+  for (const std::string& name : needed)
+    if (column_of(header, name) == header.size()) return name;
+  return "";
+}
+
+StepMeasure read_step_measure(const std::vector<std::string>& header, const std::vector<std::string>& fields) {
+  StepMeasure m;
+  for (const auto& [name, field] : kStepCounts) m.*field = std::atoi(fields.at(column_of(header, name)).c_str());
+  for (const auto& [name, field] : kStepValues)
+    m.*field = std::strtod(fields.at(column_of(header, name)).c_str(), nullptr);
+  return m;
+}
+
 std::string table1_csv(const std::vector<SceneResult>& scenes) {
-  std::string out = kSummaryColumns;
+  std::string out = summary_columns();
   for (const SceneResult& scene : scenes)
     for (const ConfigSummary& s : summarize(scene)) out += summary_line(scene, s);
   return out;
 }
 
 std::string scaling_csv(const std::vector<SceneResult>& scaling) {
-  std::string out = std::string("rocks,") + kSummaryColumns;
+  std::string out = "rocks," + summary_columns();
   for (const SceneResult& scene : scaling)
     for (const ConfigSummary& s : summarize(scene)) out += std::to_string(scene.rocks) + ',' + summary_line(scene, s);
   return out;
@@ -148,11 +212,15 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
     out += "| solver | partitioner | refine |";
     if (many_nmax) out += " n_max |";
     if (many_threads) out += " threads |";
-    out += " solve mean (ms) | solve median (ms) | solve max (ms) | critical path (ms) | partition (ms) |"
-           " refine (ms) | parts | interface rows | factorisations | unsettled | vs MinDP |\n|---|---|---|";
+    out += " solve mean (ms) | solve median (ms) | solve max (ms) | critical path (ms) |";
+    for (const int cores : kEstimateCores) out += " est. " + std::to_string(cores) + " cores (ms) |";
+    out += " partition (ms) | refine (ms) | parts | interface rows | factorisations | unsettled | vs MinDP |"
+           " speed-up, " + std::to_string(kEstimateCores[kEstimates - 1]) + " cores |\n|---|---|---|";
     if (many_nmax) out += "---:|";
     if (many_threads) out += "---:|";
-    out += "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    out += "---:|---:|---:|---:|";
+    for (std::size_t k = 0; k < kEstimates; ++k) out += "---:|";
+    out += "---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const ConfigSummary& s : summary) {
       const StudyConfig& c = s.config;
       out += std::string("| ") + (c.direct() ? "direct (monolithic)" : "substructured") + " | " +
@@ -161,12 +229,15 @@ std::string table1_markdown(const std::vector<SceneResult>& scenes, const std::s
       if (many_nmax) out += " " + (c.direct() ? std::string("—") : std::to_string(c.nmax)) + " |";
       if (many_threads) out += " " + std::to_string(c.threads) + " |";
       out += " " + format("%.3f", s.mean_solve_ms) + " | " + format("%.3f", s.median_solve_ms) + " | " +
-             format("%.3f", s.max_solve_ms) + " | " + (c.direct() ? "—" : format("%.3f", s.mean_critical_path_ms)) + " | " +
-             (c.direct() ? "—" : format("%.4f", s.mean_partition_ms)) + " | " +
+             format("%.3f", s.max_solve_ms) + " | " + (c.direct() ? "—" : format("%.3f", s.mean_critical_path_ms)) + " | ";
+      for (const double v : s.mean_estimate_ms) out += (c.direct() ? "—" : format("%.3f", v)) + " | ";
+      out += (c.direct() ? "—" : format("%.4f", s.mean_partition_ms)) + " | " +
              (c.direct() ? "—" : format("%.4f", s.mean_refine_ms)) + " | " + format("%.1f", s.mean_parts) + " | " +
              (c.direct() ? "—" : format("%.1f", s.mean_interface_rows)) + " | " +
              format("%.2f", s.mean_factorizations) + " | " + std::to_string(s.unsettled) +
-             " | " + percent_change(s.solve_vs_mindp) + " |\n";
+             " | " + percent_change(s.solve_vs_mindp) + " | " +
+             (c.direct() || !std::isfinite(s.direct_over_estimate) ? "—" : format("%.2f×", s.direct_over_estimate)) +
+             " |\n";
     }
   }
   return out;

@@ -20,6 +20,7 @@
 #include "partition/partition.hpp"
 #include "scenes/scenes.hpp"
 #include "study/capture.hpp"
+#include "study/claims.hpp"
 #include "study/machine.hpp"
 #include "study/report.hpp"
 
@@ -133,9 +134,10 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
   std::string line;
   std::ifstream steps_file(dir / "steps.csv");
   std::getline(steps_file, line);
-  if (line + '\n' != steps_csv_header())
-    throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv");
   const std::vector<std::string> header = split(line);
+  if (const std::string missing = missing_steps_csv_column(header); !missing.empty())
+    throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv (no column " +
+                     missing + ")");
   std::map<std::string, std::vector<std::vector<std::string>>> rows;
   while (std::getline(steps_file, line)) {
     std::vector<std::string> fields = split(line);
@@ -148,9 +150,6 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
                     nmax = column("nmax"), threads = column("threads");
   const auto integer = [&](const std::vector<std::string>& v, const char* name) {
     return std::atoi(v[column(name)].c_str());
-  };
-  const auto number = [&](const std::vector<std::string>& v, const char* name) {
-    return std::strtod(v[column(name)].c_str(), nullptr);
   };
   try {
     for (const nlohmann::ordered_json& entry : machine.value("scenes", nlohmann::ordered_json::array())) {
@@ -183,10 +182,7 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
             r.rows.push_back(integer(v, "rows"));
           }
           complete = complete && r.steps[k] == integer(v, "step");
-          StepMeasure m;
-          for (const auto& [name, field] : kStepCounts) m.*field = integer(v, name);
-          for (const auto& [name, field] : kStepValues) m.*field = number(v, name);
-          r.replay.measures[c].push_back(m);
+          r.replay.measures[c].push_back(read_step_measure(header, v));
         }
       }
       if (complete) out.emplace(label, std::move(r));  // else not this study's configurations: measured again
@@ -247,12 +243,14 @@ class StudyWriter {
     write_file_atomically(path("table1.md"), table1_markdown(table1_, context()));
     write_file_atomically(path("steps.csv"), steps_);
     write_file_atomically(path("scaling.csv"), scaling_csv(scaling_));
+    write_file_atomically(path("claims.md"), claims_markdown(check_claims(table1_, scaling_), claims_context()));
   }
 
  private:
   std::string path(const char* name) const { return (std::filesystem::path(dir_) / name).string(); }
 
-  std::string context() const {
+  // The machine, the build and the revisions the scenes were measured at.
+  std::string machine_context() const {
     std::string threads;
     for (const int t : threads_) threads += (threads.empty() ? "" : ", ") + std::to_string(t);
     return "Preset `" + spec_.preset + "` on " + machine_.cpu + " (" + std::to_string(machine_.logical_cpus) +
@@ -260,12 +258,34 @@ class StudyWriter {
            (revisions_.size() > 1 || (revisions_.size() == 1 && *revisions_.begin() != revision())
                 ? " (scenes resumed from other revisions: machine.json gives each scene's)"
                 : "") +
-           ". Solver threads: " + threads +
-           ".\n\nEvery configuration solved the same recorded step problems (the direct solver's "
+           ". Solver threads: " + threads + ".";
+  }
+
+  std::string context() const {
+    const std::string most = std::to_string(kEstimateCores[kEstimates - 1]);
+    return machine_context() +
+           "\n\nEvery configuration solved the same recorded step problems (the direct solver's "
            "trajectory); times are the mean over the recorded steps of each step's median over " +
            std::to_string(spec_.repeats) + (spec_.repeats == 1 ? " run" : " runs") +
            ". *vs MinDP*: change of the mean solve time against MinDP without refinement, same steps and "
-           "repeats. Parts count sub-systems with at least one row (islands for the direct solver).\n";
+           "repeats. Parts count sub-systems with at least one row (islands for the direct solver). "
+           "*est. c cores*: the mean over the steps of max(critical path, work / c), a lower bound of the "
+           "substructured solve on c cores; *speed-up, " + most + " cores*: the direct solve's mean time "
+           "(measured, same threads) over the " + most + "-core estimate.\n";
+  }
+
+  std::string claims_context() const {
+    return machine_context() +
+           "\n\nEach claim is judged on the mean solve times (as the paper quotes them) of the scenes of "
+           "its kind in this run, at " + std::to_string(spec_.threads.front()) + " solver thread" +
+           (spec_.threads.front() == 1 ? "" : "s") + " and n_max " + std::to_string(spec_.nmax.front()) +
+           ", by the rules of docs/study.md (\"The paper's claims\"): a relative change is *reproduced* "
+           "with the paper's sign and within a factor of " + round_trip(kClaimFactor) + " of its size, "
+           "*contradicted* with the opposite sign, and changes under " +
+           std::to_string(std::lround(100 * kClaimNoise)) +
+           " % count as none; a claimed winner is *contradicted* when another configuration is more than " +
+           std::to_string(std::lround(100 * kClaimMargin)) + " % faster. A scene of another size than the paper's (the "
+           "`quick` preset's) still counts: its body count is given.\n";
   }
 
   nlohmann::ordered_json machine_json(bool complete) const {
@@ -474,7 +494,8 @@ void run_study(const StudySpec& spec, const std::string& out_dir, std::FILE* log
   std::map<std::string, SceneResult> finished;
   if (resume) finished = finished_scenes(spec, configs, out_dir, started);
   // Figures of an earlier study in this directory would not match the new tables.
-  for (const char* figure : {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg"})
+  for (const char* figure :
+       {"fig3.png", "fig3.svg", "fig4.png", "fig4.svg", "fig5.png", "fig5.svg", "estimates.png", "estimates.svg"})
     std::filesystem::remove(std::filesystem::path(out_dir) / figure, ec);
   StudyWriter writer(spec, out_dir, configs, std::move(machine), started);
   writer.write(false);  // fails now, not after the run, if the directory cannot be written
