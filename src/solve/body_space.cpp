@@ -5,7 +5,8 @@
 namespace rbpart {
 
 void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows,
-                             const std::vector<Mat6>& mass, int dense_max_bodies) {
+                             const std::vector<Mat6>& mass, int dense_max_bodies,
+                             const std::vector<std::vector<int>>& cliques) {
   s_ = &s;
   bodies_ = std::move(bodies);
   rows_ = std::move(rows);
@@ -15,7 +16,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   // N's pattern follows from the bodies and each row's bodies: unchanged (a resting island assigned
   // again), it is not rebuilt.
   bool same_pattern = !n_.dense() && nb > dense_max_bodies && 6 * nb == n_.size() &&
-                      nr == static_cast<int>(body_.size());
+                      nr == static_cast<int>(body_.size()) && cliques.empty();
   body_.resize(nr);
   normal_.resize(nr);
   for (int k = 0; k < nr; ++k) {
@@ -34,16 +35,11 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   shift_.assign(nr, 0.0);
   inv_s_.assign(nr, 0.0);
   tie_weight_.assign(nr, 0.0);
-  factored_ = false;
+  assembled_ = factored_ = false;
   if (same_pattern) {
     n_.keep_pattern();
     return;
   }
-  if (nb <= dense_max_bodies) {
-    n_.assign_dense(6 * nb);
-    return;
-  }
-  // The body graph, one list per body, from the rows with two bodies.
   std::vector<std::array<int, 2>> pairs;
   pairs.reserve(2 * nr + nb);
   for (int b = 0; b < nb; ++b) pairs.push_back({b, b});
@@ -52,42 +48,29 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
       pairs.push_back({slot[0], slot[1]});
       pairs.push_back({slot[1], slot[0]});
     }
+  for (const std::vector<int>& clique : cliques)
+    for (const int a : clique)
+      for (const int b : clique) pairs.push_back({a, b});
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  adjacent_start_.assign(nb + 1, 0);
-  adjacent_.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    ++adjacent_start_[pairs[k][0] + 1];
-    adjacent_[k] = pairs[k][1];
-  }
-  for (int b = 0; b < nb; ++b) adjacent_start_[b + 1] += adjacent_start_[b];
-  std::vector<int> colptr(1, 0), rowind;
-  for (int c = 0; c < nb; ++c)
-    for (int k = 0; k < 6; ++k) {
-      for (int a = adjacent_start_[c]; a < adjacent_start_[c + 1]; ++a)
-        for (int i = 0; i < 6; ++i) rowind.push_back(6 * adjacent_[a] + i);
-      colptr.push_back(static_cast<int>(rowind.size()));
-    }
-  n_.assign_sparse(6 * nb, std::move(colptr), std::move(rowind));
+  n_.assign_blocks(nb, pairs, dense_max_bodies);
 }
 
 int BodySpaceSystem::local_body(int b) const {
   return static_cast<int>(std::lower_bound(bodies_.begin(), bodies_.end(), b) - bodies_.begin());
 }
 
-BodySpaceSystem::Block BodySpaceSystem::block(int r, int c) {
-  const int start = n_.column_start(6 * c), stride = n_.column_start(6 * c + 1) - start;
-  int position = r;
-  if (!n_.dense()) {
-    const int* first = adjacent_.data() + adjacent_start_[c];
-    const int* last = adjacent_.data() + adjacent_start_[c + 1];
-    position = static_cast<int>(std::lower_bound(first, last, r) - first);
-  }
-  return Block(n_.values() + start + 6 * position, 6, 6, Eigen::OuterStride<>(stride));
+bool BodySpaceSystem::factor(const Piece& piece) { return factor_assembled(!assemble(piece)); }
+
+bool BodySpaceSystem::factor_assembled(bool symmetric) {
+  factored_ = n_.factor(symmetric);
+  return factored_;
 }
 
-bool BodySpaceSystem::factor(const Piece& piece) {
+bool BodySpaceSystem::assemble(const Piece& piece) {
   const IslandSystem& s = *s_;
+  factored_ = false;
+  assembled_ = true;
   const int nr = static_cast<int>(rows_.size());
   n_.set_zero();
   for (int b = 0; b < bodies(); ++b) block(b, b) = mass_[b];
@@ -123,12 +106,11 @@ bool BodySpaceSystem::factor(const Piece& piece) {
       tied = true;
     }
   }
-  factored_ = n_.factor(!tied);
-  return factored_;
+  return tied;
 }
 
-bool BodySpaceSystem::factored_for(const Piece& piece) const {
-  if (!factored_) return false;
+bool BodySpaceSystem::assembled_for(const Piece& piece) const {
+  if (!assembled_) return false;
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     const int j = rows_[k];
     if (piece.equation[j] != equation_[k] || piece.tie[j] != tie_[k] || piece.shift[j] != shift_[k]) return false;

@@ -26,19 +26,28 @@ namespace rbpart {
 class BodySpaceSystem {
  public:
   // `bodies` and `rows` are island bodies and rows, both increasing; every body of a row is in
-  // `bodies`. `mass` is M per island body. `s` must outlive the solves.
+  // `bodies`. `mass` is M per island body. `s` must outlive the solves. `cliques` (positions among
+  // `bodies`) add blocks between every two bodies of each to N's pattern, for terms the caller adds
+  // between assemble() and factor_assembled() (the substructured backend's interface).
   void assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows, const std::vector<Mat6>& mass,
-              int dense_max_bodies);
+              int dense_max_bodies, const std::vector<std::vector<int>>& cliques = {});
 
   int bodies() const { return static_cast<int>(bodies_.size()); }
   // Position of island body b among the bodies (b must be one of them).
   int local_body(int b) const;
 
   // Factors N of `piece` on the rows (whose equations, ties and shifts it keeps); false if
-  // numerically singular.
+  // numerically singular. The same as assemble() then factor_assembled(!tied).
   bool factor(const Piece& piece);
-  // Whether `piece` gives the rows the equations, ties and shifts of the last factor().
-  bool factored_for(const Piece& piece) const;
+  // N of `piece` assembled, not factored; whether a row ties (N is then not symmetric).
+  bool assemble(const Piece& piece);
+  // N's block of (local body r, local body c), both adjacent in its pattern: to add to after assemble().
+  PatternFactor::Block block(int r, int c) { return n_.block(r, c); }
+  bool factor_assembled(bool symmetric);
+  // Whether `piece` gives the rows the equations, ties and shifts of the last assemble(), and N
+  // was factored since.
+  bool factored_for(const Piece& piece) const { return factored_ && assembled_for(piece); }
+  bool assembled_for(const Piece& piece) const;
   // h += the rows' terms of h for right-hand side g (island rows); h has 6 entries per local body.
   void add_rhs(const Eigen::VectorXd& g, Eigen::VectorXd& h) const;
   // h <- N^-1 h for `columns` vectors of 6 * bodies() entries stored one after another.
@@ -47,9 +56,6 @@ class BodySpaceSystem {
   void recover(const Eigen::VectorXd& g, const Eigen::VectorXd& u, Eigen::VectorXd& x) const;
 
  private:
-  using Block = Eigen::Map<Mat6, 0, Eigen::OuterStride<>>;
-  // N's block of (row body r, column body c), local bodies.
-  Block block(int r, int c);
   // J_j u for local row k.
   double velocity(int k, const Eigen::VectorXd& u) const;
 
@@ -61,10 +67,7 @@ class BodySpaceSystem {
   // The piece of the last factor() on the rows; 1 / s_j on Free rows.
   std::vector<RowEquation> equation_;
   std::vector<double> tie_, shift_, inv_s_, tie_weight_;
-  bool factored_ = false;
-  // Sparse: the bodies adjacent to each body (itself included, increasing); column 6c + k of N
-  // holds the six rows of each adjacent body's block, in order, both triangles stored.
-  std::vector<int> adjacent_start_, adjacent_;
+  bool assembled_ = false, factored_ = false;
   PatternFactor n_;
 };
 

@@ -28,6 +28,40 @@ void PatternFactor::assign_sparse(int n, std::vector<int> colptr, std::vector<in
   cholmod_ready_ = klu_ready_ = false;
 }
 
+void PatternFactor::assign_blocks(int blocks, const std::vector<std::array<int, 2>>& pairs, int dense_max_blocks) {
+  if (blocks <= dense_max_blocks) {
+    assign_dense(6 * blocks);
+    return;
+  }
+  adjacent_start_.assign(blocks + 1, 0);
+  adjacent_.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    ++adjacent_start_[pairs[k][0] + 1];
+    adjacent_[k] = pairs[k][1];
+  }
+  for (int b = 0; b < blocks; ++b) adjacent_start_[b + 1] += adjacent_start_[b];
+  // Column 6c + k holds the six rows of each adjacent block, in order.
+  std::vector<int> colptr(1, 0), rowind;
+  for (int c = 0; c < blocks; ++c)
+    for (int k = 0; k < 6; ++k) {
+      for (int a = adjacent_start_[c]; a < adjacent_start_[c + 1]; ++a)
+        for (int i = 0; i < 6; ++i) rowind.push_back(6 * adjacent_[a] + i);
+      colptr.push_back(static_cast<int>(rowind.size()));
+    }
+  assign_sparse(6 * blocks, std::move(colptr), std::move(rowind));
+}
+
+PatternFactor::Block PatternFactor::block(int r, int c) {
+  const int start = column_start(6 * c), stride = column_start(6 * c + 1) - start;
+  int position = r;
+  if (!dense_) {
+    const int* first = adjacent_.data() + adjacent_start_[c];
+    const int* last = adjacent_.data() + adjacent_start_[c + 1];
+    position = static_cast<int>(std::lower_bound(first, last, r) - first);
+  }
+  return Block(values() + start + 6 * position, 6, 6, Eigen::OuterStride<>(stride));
+}
+
 void PatternFactor::keep_pattern() {
   if (klu_ready_) klu_.repivot();
 }

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include <array>
 #include <vector>
 
 namespace rbpart {
@@ -27,6 +28,14 @@ class PatternFactor {
   // refactors with the first LU's pivots; reused from the step before they left far more steps
   // unsettled (Rock Pile, --solver direct: 462 against 91 of 500).
   void keep_pattern();
+
+  // A matrix of 6 x 6 blocks on `blocks` block rows and columns holding the blocks (r, c) of
+  // `pairs` (sorted, unique, both triangles, every diagonal block among them): dense if blocks <=
+  // dense_max_blocks, else sparse. The same sparse pattern keeps its analyses (assign_sparse).
+  void assign_blocks(int blocks, const std::vector<std::array<int, 2>>& pairs, int dense_max_blocks);
+  // Block (r, c) of a matrix assigned by assign_blocks(); it must be one of its pairs.
+  using Block = Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>>;
+  Block block(int r, int c);
 
   int size() const { return n_; }
   bool dense() const { return dense_; }
@@ -45,6 +54,8 @@ class PatternFactor {
   int n_ = 0;
   bool dense_ = true, lu_ = false;
   std::vector<int> colptr_, rowind_;
+  // assign_blocks(), sparse: the block rows of each block column (increasing).
+  std::vector<int> adjacent_start_, adjacent_;
   std::vector<double> values_;
   bool cholmod_ready_ = false, klu_ready_ = false;
   CholmodFactor cholmod_;

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -44,133 +43,102 @@ void SubstructuredSystem::finish_call(double wall_ms) {
 }
 
 void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& part_of_body, int dense_max_bodies) {
-  s_ = &s;
   const int part_count = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
   parts_ = std::vector<Part>(part_count);
   // Rows by the parts of their bodies: {i, i} a sub-system row of part i, {i, k} an interface row
   // between parts i and k (by slot).
   std::vector<std::array<int, 2>> group(s.rows);
   std::vector<std::vector<int>> bodies(part_count), rows(part_count);
+  std::vector<int> interface_rows;
+  std::vector<char> boundary(s.bodies, 0);
   for (int b = 0; b < s.bodies; ++b) bodies[part_of_body[b]].push_back(b);
-  interface_row_.clear();
   for (int j = 0; j < s.rows; ++j) {
     const int first = part_of_body[s.body[j][0]];
     group[j] = {first, s.body[j][1] < 0 ? first : part_of_body[s.body[j][1]]};
-    if (group[j][0] == group[j][1]) rows[first].push_back(j);
-    else interface_row_.push_back(j);
+    if (group[j][0] == group[j][1]) {
+      rows[first].push_back(j);
+    } else {
+      interface_rows.push_back(j);
+      boundary[s.body[j][0]] = boundary[s.body[j][1]] = 1;
+    }
   }
   for (int j = 0; j < s.rows; ++j) {
     const int n = s.normal_of[j];
     if (n >= 0 && std::minmax(group[j][0], group[j][1]) != std::minmax(group[n][0], group[n][1]))
       throw std::invalid_argument("SubstructuredSystem: a friction row and its normal lie in different parts");
   }
+  interface_rows_ = static_cast<int>(interface_rows.size());
+  std::vector<int> interface_bodies;
+  for (int b = 0; b < s.bodies; ++b)
+    if (boundary[b]) interface_bodies.push_back(b);
   const std::vector<Mat6> mass = body_masses(s);
+  std::vector<std::vector<int>> cliques(part_count);
   for (int i = 0; i < part_count; ++i) {
+    Part& p = parts_[i];
     if (bodies[i].empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
-    parts_[i].n.assign(s, std::move(bodies[i]), std::move(rows[i]), mass, dense_max_bodies);
-  }
-  // Each part's interface rows, and the bodies they act on: first as local bodies, then as
-  // positions among the part's interface bodies.
-  const auto position = [](const std::vector<int>& sorted, int value) {
-    return static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), value) - sorted.begin());
-  };
-  const int ni = interface_rows();
-  interface_bodies_ = 0;
-  for (int t = 0; t < ni; ++t)
-    for (int slot = 0; slot < 2; ++slot) {
-      Part& p = parts_[group[interface_row_[t]][slot]];
-      p.touch.push_back(t);
-      p.slot.push_back(slot);
-      p.touch_body.push_back(p.n.local_body(s.body[interface_row_[t]][slot]));
+    const std::vector<int> part_bodies = bodies[i];
+    p.n.assign(s, std::move(bodies[i]), rows[i], mass, dense_max_bodies);
+    p.position.resize(part_bodies.size());
+    for (std::size_t l = 0; l < part_bodies.size(); ++l) {
+      const int b = part_bodies[l];
+      std::vector<int>& side = boundary[b] ? p.boundary : p.interior;
+      p.position[l] = static_cast<int>(side.size());
+      side.push_back(static_cast<int>(l));
+      if (boundary[b]) {
+        p.boundary_at.push_back(static_cast<int>(std::lower_bound(interface_bodies.begin(), interface_bodies.end(), b) -
+                                                 interface_bodies.begin()));
+        cliques[i].push_back(p.boundary_at.back());
+      }
     }
-  for (Part& p : parts_) {
-    p.interface_bodies = p.touch_body;
-    std::sort(p.interface_bodies.begin(), p.interface_bodies.end());
-    p.interface_bodies.erase(std::unique(p.interface_bodies.begin(), p.interface_bodies.end()), p.interface_bodies.end());
-    interface_bodies_ += static_cast<int>(p.interface_bodies.size());
-    const int nt = static_cast<int>(p.touch.size());
-    p.touch_normal.assign(nt, -1);
-    for (int a = 0; a < nt; ++a) {
-      p.touch_body[a] = position(p.interface_bodies, p.touch_body[a]);
-      const int n = s.normal_of[interface_row_[p.touch[a]]];
-      if (n >= 0) p.touch_normal[a] = position(p.touch, position(interface_row_, n));
+    // N_i's blocks: the diagonal and every pair of bodies a sub-system row joins.
+    std::vector<std::array<int, 2>> pairs;
+    for (std::size_t l = 0; l < part_bodies.size(); ++l) pairs.push_back({static_cast<int>(l), static_cast<int>(l)});
+    for (const int j : rows[i])
+      if (s.body[j][1] >= 0) {
+        const int a = p.n.local_body(s.body[j][0]), b = p.n.local_body(s.body[j][1]);
+        pairs.push_back({a, b});
+        pairs.push_back({b, a});
+      }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::vector<std::array<int, 2>> interior_pairs;
+    for (const auto& [r, c] : pairs) {
+      const bool r_in = !boundary[part_bodies[r]], c_in = !boundary[part_bodies[c]];
+      (r_in ? (c_in ? p.ii : p.ik) : (c_in ? p.ki : p.kk)).push_back({r, c});
+      if (r_in && c_in) interior_pairs.push_back({p.position[r], p.position[c]});
     }
-    p.touch_equation.assign(nt, RowEquation::Fixed);
-    p.touch_tie.assign(nt, 0.0);
-    p.formed = false;
+    // Sorted by (r, c) on local bodies, which keeps the interior positions' order.
+    p.n_ii.assign_blocks(static_cast<int>(p.interior.size()), interior_pairs, dense_max_bodies);
   }
-  // S's pattern: column t holds the interface rows of the parts row t touches.
-  if (ni <= 6 * dense_max_bodies) {
-    s_factor_.assign_dense(ni);
-  } else {
-    std::vector<int> colptr(1, 0), rowind;
-    for (int t = 0; t < ni; ++t) {
-      const std::vector<int>& a = parts_[group[interface_row_[t]][0]].touch;
-      const std::vector<int>& b = parts_[group[interface_row_[t]][1]].touch;
-      std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(rowind));
-      colptr.push_back(static_cast<int>(rowind.size()));
-    }
-    s_factor_.assign_sparse(ni, std::move(colptr), std::move(rowind));
-  }
-  const auto entry = [&](int row, int column) {
-    const int start = s_factor_.column_start(column);
-    if (s_factor_.dense()) return start + row;
-    const int* first = s_factor_.rowind().data() + start;
-    const int* last = s_factor_.rowind().data() + s_factor_.column_start(column + 1);
-    return start + static_cast<int>(std::lower_bound(first, last, row) - first);
-  };
-  diagonal_.resize(ni);
-  for (int t = 0; t < ni; ++t) diagonal_[t] = entry(t, t);
-  for (Part& p : parts_) {
-    const int nt = static_cast<int>(p.touch.size());
-    p.entry.resize(static_cast<std::size_t>(nt) * nt);
-    for (int b = 0; b < nt; ++b)
-      for (int a = 0; a < nt; ++a) p.entry[a + nt * b] = entry(p.touch[a], p.touch[b]);
-  }
-  equation_i_.assign(ni, RowEquation::Fixed);
-  tie_i_.assign(ni, 0.0);
-  r_.resize(ni);
+  // S carries no mass of its own: the parts' blocks hold it.
+  interface_.assign(s, std::move(interface_bodies), std::move(interface_rows), std::vector<Mat6>(s.bodies, Mat6::Zero()),
+                    dense_max_bodies, cliques);
+  r_.resize(6 * interface_.bodies());
   last_ = total_ = SubstructuredCost{};
 }
 
 void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
-  p.refactored = !p.n.factored_for(piece);
-  if (p.refactored) {
-    p.formed = false;
-    p.ok = p.n.factor(piece);
-    if (!p.ok) return;
-    // X = N^-1 U on the interface bodies' unknowns, and the rows of J_T X.
-    const int k = static_cast<int>(p.interface_bodies.size());
-    p.x.setZero(6 * p.n.bodies(), 6 * k);
-    for (int c = 0; c < k; ++c) p.x.block<6, 6>(6 * p.interface_bodies[c], 6 * c).setIdentity();
-    p.n.solve(p.x.data(), 6 * k);
-    p.jx.resize(p.touch.size(), 6 * k);
-    for (std::size_t a = 0; a < p.touch.size(); ++a)
-      p.jx.row(a).noalias() = jac(p, a).transpose() * p.x.middleRows<6>(6 * p.interface_bodies[p.touch_body[a]]);
-  }
-  const int nt = static_cast<int>(p.touch.size());
-  bool same = p.formed;
-  for (int a = 0; a < nt && same; ++a) {
-    const int j = interface_row_[p.touch[a]];
-    same = piece.equation[j] == p.touch_equation[a] && piece.tie[j] == p.touch_tie[a];
-  }
-  if (same) return;
-  // C = J_T X E_T column by column: a free row's own column, and each tie in its normal's.
-  p.c.setZero(nt, nt);
-  for (int a = 0; a < nt; ++a) {
-    const int j = interface_row_[p.touch[a]];
-    p.touch_equation[a] = piece.equation[j];
-    p.touch_tie[a] = piece.tie[j];
-    if (piece.equation[j] == RowEquation::Free)
-      p.c.col(a).noalias() += p.jx.middleCols<6>(6 * p.touch_body[a]) * jac(p, a);
-    else if (piece.equation[j] == RowEquation::Tied)
-      p.c.col(p.touch_normal[a]).noalias() += p.jx.middleCols<6>(6 * p.touch_body[a]) * (piece.tie[j] * jac(p, a));
-  }
-  p.formed = true;
+  p.refactored = !(p.ok && p.n.assembled_for(piece));
+  if (!p.refactored) return;
+  const bool tied = p.n.assemble(piece);
+  const int ni = static_cast<int>(p.interior.size()), k = static_cast<int>(p.boundary.size());
+  p.n_ii.set_zero();
+  for (const auto& [r, c] : p.ii) p.n_ii.block(p.position[r], p.position[c]) = p.n.block(r, c);
+  p.ok = ni == 0 || p.n_ii.factor(!tied);
+  if (!p.ok || k == 0) return;
+  p.x.setZero(6 * ni, 6 * k);
+  for (const auto& [r, c] : p.ik) p.x.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  p.n_ki.setZero(6 * k, 6 * ni);
+  for (const auto& [r, c] : p.ki) p.n_ki.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  p.schur.setZero(6 * k, 6 * k);
+  for (const auto& [r, c] : p.kk) p.schur.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  if (ni == 0) return;
+  p.n_ii.solve(p.x.data(), 6 * k);
+  p.schur.noalias() -= p.n_ki * p.x;
+  p.ok = p.schur.allFinite();
 }
 
 bool SubstructuredSystem::factor(const Piece& piece) {
-  const IslandSystem& s = *s_;
   const Timer wall;
   last_ = SubstructuredCost{};
   for_parts([&](Part& p) { factor_part(p, piece); });
@@ -179,40 +147,20 @@ bool SubstructuredSystem::factor(const Piece& piece) {
     ok = ok && p.ok;
     last_.parts_refactored += p.refactored;
   }
-  if (ok && interface_rows() > 0)
+  if (ok && interface_.bodies() > 0)
     serial([&] {
-      // S in part order; a row that is not free is an identity row.
-      s_factor_.set_zero();
-      double* values = s_factor_.values();
-      for (int t = 0; t < interface_rows(); ++t) {
-        const int j = interface_row_[t];
-        equation_i_[t] = piece.equation[j];
-        tie_i_[t] = piece.tie[j];
-        values[diagonal_[t]] = equation_i_[t] == RowEquation::Free ? s.sigma[j] + piece.shift[j] : 1.0;
-      }
+      interface_.assemble(piece);
       for (const Part& p : parts_) {
-        const int nt = static_cast<int>(p.touch.size());
-        for (int b = 0; b < nt; ++b)
-          for (int a = 0; a < nt; ++a)
-            if (equation_i_[p.touch[a]] == RowEquation::Free) values[p.entry[a + nt * b]] += p.c(a, b);
+        const int k = static_cast<int>(p.boundary.size());
+        for (int c = 0; c < k; ++c)
+          for (int r = 0; r < k; ++r)
+            interface_.block(p.boundary_at[r], p.boundary_at[c]) += p.schur.block<6, 6>(6 * r, 6 * c);
       }
-      // A free row's coupling to its normal, -c_t x_n (interior-point steps): in S directly, once
-      // (through the first part that touches the row; the normal is an interface row of it too).
-      coupled_.assign(interface_rows(), 0);
-      // Ties, and free rows coupled to their normal anywhere in the island, make the N_i or S non-symmetric.
-      bool symmetric = std::find(piece.equation.begin(), piece.equation.end(), RowEquation::Tied) == piece.equation.end() &&
-                       std::all_of(piece.tie.data(), piece.tie.data() + piece.tie.size(), [](double c) { return c == 0; });
-      for (const Part& p : parts_) {
-        const int nt = static_cast<int>(p.touch.size());
-        for (int a = 0; a < nt; ++a) {
-          const int t = p.touch[a];
-          if (equation_i_[t] != RowEquation::Free || tie_i_[t] == 0 || coupled_[t]) continue;
-          coupled_[t] = 1;
-          values[p.entry[a + nt * p.touch_normal[a]]] -= tie_i_[t];
-          symmetric = false;
-        }
-      }
-      ok = s_factor_.factor(symmetric);
+      // Ties, and free rows coupled to their normal, anywhere in the island make the N_i or S non-symmetric.
+      const bool symmetric =
+          std::find(piece.equation.begin(), piece.equation.end(), RowEquation::Tied) == piece.equation.end() &&
+          std::all_of(piece.tie.data(), piece.tie.data() + piece.tie.size(), [](double c) { return c == 0; });
+      ok = interface_.factor_assembled(symmetric);
     });
   finish_call(wall.ms());
   return ok;
@@ -222,44 +170,33 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   const Timer wall;
   last_ = SubstructuredCost{};
   x.resize(g.size());
-  // v_i = N_i^-1 h'_i, and its velocity on every interface row touching the part.
+  // v_i = N_II^-1 h_I, and the part's terms of r: h_K - N_KI v_i.
   for_parts([&](Part& p) {
     p.h.setZero(6 * p.n.bodies());
     p.n.add_rhs(g, p.h);
-    const int nt = static_cast<int>(p.touch.size());
-    for (int a = 0; a < nt; ++a)
-      if (p.touch_equation[a] != RowEquation::Free)
-        p.h.segment<6>(6 * p.interface_bodies[p.touch_body[a]]) += jac(p, a) * g[interface_row_[p.touch[a]]];
-    p.n.solve(p.h.data());
-    p.term.resize(nt);
-    for (int a = 0; a < nt; ++a) p.term[a] = jac(p, a).dot(p.h.segment<6>(6 * p.interface_bodies[p.touch_body[a]]));
+    p.v.resize(6 * static_cast<Eigen::Index>(p.interior.size()));
+    for (std::size_t l = 0; l < p.interior.size(); ++l) p.v.segment<6>(6 * l) = p.h.segment<6>(6 * p.interior[l]);
+    if (!p.interior.empty()) p.n_ii.solve(p.v.data());
+    p.c.resize(6 * static_cast<Eigen::Index>(p.boundary.size()));
+    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.c.segment<6>(6 * l) = p.h.segment<6>(6 * p.boundary[l]);
+    if (!p.boundary.empty() && !p.interior.empty()) p.c.noalias() -= p.n_ki * p.v;
   });
-  // The interface impulses: S for the free ones, in part order.
-  serial([&] {
-    const int ni = interface_rows();
-    for (int t = 0; t < ni; ++t) r_[t] = equation_i_[t] == RowEquation::Free ? g[interface_row_[t]] : 0.0;
-    for (const Part& p : parts_)
-      for (std::size_t a = 0; a < p.touch.size(); ++a)
-        if (equation_i_[p.touch[a]] == RowEquation::Free) r_[p.touch[a]] -= p.term[a];
-    if (ni > 0) s_factor_.solve(r_.data());
-    for (int t = 0; t < ni; ++t) {
-      const int j = interface_row_[t];
-      x[j] = equation_i_[t] == RowEquation::Free ? r_[t] : g[j];
-    }
-    for (int t = 0; t < ni; ++t)
-      if (equation_i_[t] == RowEquation::Tied) x[interface_row_[t]] += tie_i_[t] * x[s_->normal_of[interface_row_[t]]];
-  });
-  // u_i = v_i + X_i E_T x_I, then the part's own impulses.
+  // The interface bodies' velocities u_K, in part order, then the interface rows' impulses.
+  if (interface_.bodies() > 0)
+    serial([&] {
+      r_.setZero();
+      interface_.add_rhs(g, r_);
+      for (const Part& p : parts_)
+        for (std::size_t l = 0; l < p.boundary.size(); ++l) r_.segment<6>(6 * p.boundary_at[l]) += p.c.segment<6>(6 * l);
+      interface_.solve(r_.data());
+      interface_.recover(g, r_, x);
+    });
+  // u_I = v_i - X_i u_K, then the part's own impulses.
   for_parts([&](Part& p) {
-    p.y.setZero(p.x.cols());
-    for (std::size_t a = 0; a < p.touch.size(); ++a) {
-      const int j = interface_row_[p.touch[a]];
-      double impulse = 0;  // of x_I's unknowns only: a Fixed row's, and a Tied row's g_t, are in h'
-      if (p.touch_equation[a] == RowEquation::Free) impulse = x[j];
-      else if (p.touch_equation[a] == RowEquation::Tied) impulse = p.touch_tie[a] * x[s_->normal_of[j]];
-      p.y.segment<6>(6 * p.touch_body[a]) += jac(p, a) * impulse;
-    }
-    p.h.noalias() += p.x * p.y;
+    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.c.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
+    if (!p.boundary.empty() && !p.interior.empty()) p.v.noalias() -= p.x * p.c;
+    for (std::size_t l = 0; l < p.interior.size(); ++l) p.h.segment<6>(6 * p.interior[l]) = p.v.segment<6>(6 * l);
+    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.h.segment<6>(6 * p.boundary[l]) = p.c.segment<6>(6 * l);
     p.n.recover(g, p.h, x);
   });
   finish_call(wall.ms());
