@@ -2,7 +2,7 @@
 // one call per stage, each timed into the profile field of the same name (DESIGN.md §1).
 #include <rbpart/world.hpp>
 
-#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +35,9 @@ struct World::Impl {
   StepParams step_params;
   SolverParams solver_params;
   PartitionParams partition_params;
-  std::unique_ptr<tbb::global_control> thread_limit;  // only when a thread count is asked for
+  // The World's own threads, only when a count is asked for: an arena, so that another World (or
+  // the embedding program) keeps its own (a tbb::global_control would cap the whole process).
+  std::unique_ptr<tbb::task_arena> arena;
   Bodies bodies;
   std::vector<JointFrame> joints;
   Collider collider;
@@ -70,8 +72,7 @@ struct World::Impl {
       throw InputError("sigma_floor must be positive: the direct solver, which also solves the position projection, "
                        "divides by every row's regularisation");
     if (solver_params.threads > 0)
-      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                           static_cast<std::size_t>(solver_params.threads));
+      arena = std::make_unique<tbb::task_arena>(solver_params.threads);
     init_bodies();
     joints = make_joint_frames(scene, bodies);
     force.assign(bodies.size(), Vec3::Zero());
@@ -298,7 +299,12 @@ World::World(SceneDef scene, StepParams step_params, SolverParams solver_params,
 }
 World::~World() = default;
 
-const StepStats& World::step() { return impl_->step(); }
+const StepStats& World::step() {
+  if (!impl_->arena) return impl_->step();
+  const StepStats* stats = nullptr;
+  impl_->arena->execute([&] { stats = &impl_->step(); });
+  return *stats;
+}
 void World::restart(double time, const std::vector<BodyState>& bodies) { impl_->restart(time, bodies); }
 double World::time() const { return impl_->steps * impl_->scene.dt + impl_->time_offset; }
 int World::step_count() const { return impl_->steps; }

@@ -53,8 +53,7 @@ Trajectory capture_trajectory(const SceneDef& scene, int steps, int every, const
   Trajectory trajectory;
   const Timer timer;
   {
-    // The World (and any thread limit it holds) lives only for the capture, so the replay's own
-    // thread limits are not capped by it (tbb::global_control takes the smallest active limit).
+    // The World lives only for the capture.
     World world(scene, step_params, direct, PartitionParams{});
     bool record = false;
     set_problem_observer(world, [&](const Rows& rows, const Bodies& bodies, const Islands& islands,

@@ -3,11 +3,16 @@
 #include <gtest/gtest.h>
 #include <rbpart/world.hpp>
 
+#include <atomic>
+#include <chrono>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "scenes/scenes.hpp"
+#include "step/world_internals.hpp"
 
 namespace rbpart {
 namespace {
@@ -51,8 +56,7 @@ struct StepTrace {
   int islands = 0;
 };
 
-// Each run on its own: the thread limit is a process-wide tbb::global_control that takes the
-// smallest limit alive, so a 1-thread World alive beside the 2-thread one would cap both.
+// Each run on its own (a World's threads are its own: ThreadsArePerWorld).
 std::vector<StepTrace> run_trace(const SceneDef& scene, int threads, int steps, SolverParams solver,
                                  const PartitionParams& partition) {
   solver.threads = threads;
@@ -142,6 +146,35 @@ TEST(Determinism, DifferentSeedsGiveDifferentScenes) {
   const SceneDef a = make_builtin_scene("rock_pile", {{"rocks", "10"}, {"seed", "1"}});
   const SceneDef b = make_builtin_scene("rock_pile", {{"rocks", "10"}, {"seed", "2"}});
   EXPECT_NE(run_hash(a, 1, 1), run_hash(b, 1, 1));
+}
+
+// A World's thread count is its own: a 1-thread World alive beside a 2-thread one does not cap it
+// (a process-wide limit would). Inside the 2-thread World's step, two parallel items must run at
+// the same time: each waits, up to 10 s, for the other to start.
+TEST(Determinism, ThreadsArePerWorld) {
+  const SceneDef scene = make_builtin_scene("box_stack", {{"boxes", "2"}});
+  SolverParams one, two;
+  one.threads = 1;
+  two.threads = 2;
+  World single(scene, StepParams{}, one, PartitionParams{}), pair(scene, StepParams{}, two, PartitionParams{});
+  bool concurrent = false;
+  set_problem_observer(pair, [&](const Rows&, const Bodies&, const Islands&, const ConstraintGraph&) {
+    std::atomic<int> started{0};
+    std::atomic<bool> both{true};
+    parallel_for_each(2, [&](std::size_t) {
+      ++started;
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      while (started.load() < 2)
+        if (std::chrono::steady_clock::now() > deadline) {
+          both = false;
+          return;
+        }
+    });
+    concurrent = both.load();
+  });
+  single.step();
+  pair.step();
+  EXPECT_TRUE(concurrent);
 }
 
 }  // namespace
