@@ -163,6 +163,15 @@ std::string steps_csv_rows(const SceneResult& scene) {
   return out;
 }
 
+std::vector<std::string> steps_csv_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    fields.push_back(line.substr(start, comma - start));
+  fields.push_back(line.substr(start));
+  return fields;
+}
+
 std::string missing_steps_csv_column(const std::vector<std::string>& header) {
   std::vector<std::string> needed(std::begin(kKeyColumns), std::end(kKeyColumns));
   needed.insert(needed.end(), std::begin(kStepColumns), std::end(kStepColumns));

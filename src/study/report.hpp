@@ -86,6 +86,8 @@ std::string steps_csv_rows(const SceneResult& scene);
 // the rows are written, so a steps.csv written before they were added reads too. The first
 // column missing from `header`, or "" if it is readable:
 std::string missing_steps_csv_column(const std::vector<std::string>& header);
+// A line of steps.csv split at its commas (its fields hold no commas or quotes).
+std::vector<std::string> steps_csv_fields(const std::string& line);
 // The measured columns of one line (`fields`, as many as `header`'s) under a readable header.
 StepMeasure read_step_measure(const std::vector<std::string>& header, const std::vector<std::string>& fields);
 std::string table1_csv(const std::vector<SceneResult>& scenes);

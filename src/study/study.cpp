@@ -123,24 +123,16 @@ std::map<std::string, SceneResult> finished_scenes(const StudySpec& spec, const 
   if (machine.contains("started") && machine["started"].is_string()) started = machine["started"];
 
   // steps.csv rows by scene label, in file order; columns by name.
-  const auto split = [](const std::string& line) {
-    std::vector<std::string> fields;
-    std::size_t start = 0;
-    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
-      fields.push_back(line.substr(start, comma - start));
-    fields.push_back(line.substr(start));
-    return fields;
-  };
   std::string line;
   std::ifstream steps_file(dir / "steps.csv");
   std::getline(steps_file, line);
-  const std::vector<std::string> header = split(line);
+  const std::vector<std::string> header = steps_csv_fields(line);
   if (const std::string missing = missing_steps_csv_column(header); !missing.empty())
     throw InputError("--resume: " + (dir / "steps.csv").string() + ": not a study's steps.csv (no column " +
                      missing + ")");
   std::map<std::string, std::vector<std::vector<std::string>>> rows;
   while (std::getline(steps_file, line)) {
-    std::vector<std::string> fields = split(line);
+    std::vector<std::string> fields = steps_csv_fields(line);
     if (fields.size() == header.size()) rows[fields[0]].push_back(std::move(fields));
   }
   const auto column = [&header](const char* name) {

@@ -338,15 +338,6 @@ TEST_F(TinyStudy, EstimatesOnMoreCoresComeFromWorkAndCriticalPath) {
 
 // --- steps.csv through the reader of bench --resume, on hand-made measures ----------------------------
 
-std::vector<std::string> split_line(const std::string& line) {
-  std::vector<std::string> fields;
-  std::size_t start = 0;
-  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
-    fields.push_back(line.substr(start, comma - start));
-  fields.push_back(line.substr(start));
-  return fields;
-}
-
 std::string join(const std::vector<std::string>& fields) {
   std::string out;
   for (const std::string& f : fields) out += (out.empty() ? "" : ",") + f;
@@ -384,7 +375,7 @@ SceneResult hand_made_steps() {
 TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
   const SceneResult scene = hand_made_steps();
   const std::string text = steps_csv_rows(scene);
-  std::vector<std::string> header = split_line(steps_csv_header().substr(0, steps_csv_header().size() - 1));
+  std::vector<std::string> header = steps_csv_fields(steps_csv_header().substr(0, steps_csv_header().size() - 1));
   EXPECT_EQ(missing_steps_csv_column(header), "");
 
   // The estimates as written: empty for the baseline; max(critical path, work / c).
@@ -393,7 +384,7 @@ TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 6u);
   const auto field = [&](std::size_t line, const std::string& name) {
-    const std::vector<std::string> f = split_line(lines[line]);
+    const std::vector<std::string> f = steps_csv_fields(lines[line]);
     return f.at(static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin()));
   };
   EXPECT_EQ(field(0, "est4_ms"), "");
@@ -410,7 +401,7 @@ TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
     SceneResult again = scene;
     again.replay.measures.assign(2, {});
     for (std::size_t i = 0; i < rows.size(); ++i)
-      again.replay.measures[i / 3].push_back(read_step_measure(h, split_line(rows[i])));
+      again.replay.measures[i / 3].push_back(read_step_measure(h, steps_csv_fields(rows[i])));
     return steps_csv_rows(again);
   };
   EXPECT_EQ(reread(header, lines), text);
@@ -418,7 +409,7 @@ TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
   // A steps.csv written before the estimates (its last three columns) reads to the same measures.
   std::vector<std::string> old_header(header.begin(), header.end() - kEstimates), old_lines;
   for (const std::string& line : lines) {
-    const std::vector<std::string> f = split_line(line);
+    const std::vector<std::string> f = steps_csv_fields(line);
     old_lines.push_back(join(std::vector<std::string>(f.begin(), f.end() - kEstimates)));
   }
   EXPECT_EQ(missing_steps_csv_column(old_header), "");
@@ -428,7 +419,7 @@ TEST(StudyReport, StepsCsvRoundTripsThroughTheResumeReaderWithItsEstimates) {
   std::swap(shuffled[0], shuffled[16]);
   std::vector<std::string> shuffled_lines;
   for (const std::string& line : lines) {
-    std::vector<std::string> f = split_line(line);
+    std::vector<std::string> f = steps_csv_fields(line);
     std::swap(f[0], f[16]);
     shuffled_lines.push_back(join(f));
   }
@@ -474,7 +465,7 @@ TEST(StudyResume, KeepsFinishedScenesAndRefusesAnotherProtocol) {
     std::stringstream in(steps_before);
     std::string old, line;
     while (std::getline(in, line)) {
-      const std::vector<std::string> f = split_line(line);
+      const std::vector<std::string> f = steps_csv_fields(line);
       old += join(std::vector<std::string>(f.begin(), f.end() - kEstimates)) + '\n';
     }
     std::ofstream(dir / "steps.csv") << old;
