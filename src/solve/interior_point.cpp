@@ -19,39 +19,42 @@ bool has_lo(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of
 bool has_hi(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j])); }
 
 // Slacks of lambda's bounds (friction: the box of lambda's own normal); 0 where there is no bound.
-void slacks(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& slo, Eigen::VectorXd& shi) {
-  slo.setZero(s.rows);
-  shi.setZero(s.rows);
-  for (int j = 0; j < s.rows; ++j) {
+void slacks(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& slo, Eigen::VectorXd& shi,
+            IslandChunks& chunks) {
+  slo.resize(s.rows);
+  shi.resize(s.rows);
+  chunks.each(s.rows, [&](int j) {
     const int n = s.normal_of[j];
     if (n >= 0) {
       slo[j] = lambda[j] + s.mu[j] * lambda[n];
       shi[j] = s.mu[j] * lambda[n] - lambda[j];
-      continue;
+      return;
     }
-    if (std::isfinite(s.lo[j])) slo[j] = lambda[j] - s.lo[j];
-    if (std::isfinite(s.hi[j])) shi[j] = s.hi[j] - lambda[j];
-  }
+    slo[j] = std::isfinite(s.lo[j]) ? lambda[j] - s.lo[j] : 0.0;
+    shi[j] = std::isfinite(s.hi[j]) ? s.hi[j] - lambda[j] : 0.0;
+  });
 }
 
 // Changes of the slacks for a change d of the impulses (friction: with its normal's change).
-void slack_steps(const IslandSystem& s, const Eigen::VectorXd& d, Eigen::VectorXd& dslo, Eigen::VectorXd& dshi) {
-  dslo.setZero(s.rows);
-  dshi.setZero(s.rows);
-  for (int j = 0; j < s.rows; ++j) {
+void slack_steps(const IslandSystem& s, const Eigen::VectorXd& d, Eigen::VectorXd& dslo, Eigen::VectorXd& dshi,
+                 IslandChunks& chunks) {
+  dslo.resize(s.rows);
+  dshi.resize(s.rows);
+  chunks.each(s.rows, [&](int j) {
     const int n = s.normal_of[j];
     const double coupled = n >= 0 ? s.mu[j] * d[n] : 0.0;
-    if (has_lo(s, j)) dslo[j] = d[j] + coupled;
-    if (has_hi(s, j)) dshi[j] = coupled - d[j];
-  }
+    dslo[j] = has_lo(s, j) ? d[j] + coupled : 0.0;
+    dshi[j] = has_hi(s, j) ? coupled - d[j] : 0.0;
+  });
 }
 
 // The largest alpha in (0, 1] with x + alpha dx >= 0 on the bounds that exist.
-double step_to_boundary(const IslandSystem& s, const Eigen::VectorXd& x, const Eigen::VectorXd& dx, bool lower) {
-  double alpha = 1;
-  for (int j = 0; j < s.rows; ++j)
-    if ((lower ? has_lo(s, j) : has_hi(s, j)) && dx[j] < 0) alpha = std::min(alpha, -x[j] / dx[j]);
-  return alpha;
+double step_to_boundary(const IslandSystem& s, const Eigen::VectorXd& x, const Eigen::VectorXd& dx, bool lower,
+                        IslandChunks& chunks) {
+  const double alpha = chunks.min(s.rows, [&](int j) {
+    return (lower ? has_lo(s, j) : has_hi(s, j)) && dx[j] < 0 ? -x[j] / dx[j] : 1.0;
+  });
+  return std::min(1.0, alpha);
 }
 
 }  // namespace
@@ -91,11 +94,11 @@ void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) 
   gap0_ = 0;
 }
 
-double InteriorPoint::step(LinearSystem& system) {
+double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   const IslandSystem& s = *s_;
   const int n = s.rows;
-  slacks(s, lambda_, slo_, shi_);
-  apply_a(s, lambda_, du_, w_);
+  slacks(s, lambda_, slo_, shi_, chunks);
+  apply_a(s, lambda_, du_, w_, chunks);
   w_ += s.q;
   double gap = 0;
   int bounds = 0;
@@ -122,17 +125,18 @@ double InteriorPoint::step(LinearSystem& system) {
   if (!system.factor(piece_)) return 0;
   // Predictor (tau = 0): the right-hand side is -w (0 on closed rows, which do not move).
   r_.resize(n);
-  for (int j = 0; j < n; ++j) r_[j] = closed(s, j) ? 0.0 : -w_[j];
+  chunks.each(n, [&](int j) { r_[j] = closed(s, j) ? 0.0 : -w_[j]; });
   system.solve(r_, d_);
-  slack_steps(s, d_, dslo_, dshi_);
-  dzlo_.setZero(n);
-  dzhi_.setZero(n);
-  for (int j = 0; j < n; ++j) {
-    if (has_lo(s, j)) dzlo_[j] = -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j];
-    if (has_hi(s, j)) dzhi_[j] = -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j];
-  }
-  const double affine = std::min({step_to_boundary(s, slo_, dslo_, true), step_to_boundary(s, shi_, dshi_, false),
-                                  step_to_boundary(s, zlo_, dzlo_, true), step_to_boundary(s, zhi_, dzhi_, false)});
+  slack_steps(s, d_, dslo_, dshi_, chunks);
+  dzlo_.resize(n);
+  dzhi_.resize(n);
+  chunks.each(n, [&](int j) {
+    dzlo_[j] = has_lo(s, j) ? -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j] : 0.0;
+    dzhi_[j] = has_hi(s, j) ? -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j] : 0.0;
+  });
+  const double affine =
+      std::min({step_to_boundary(s, slo_, dslo_, true, chunks), step_to_boundary(s, shi_, dshi_, false, chunks),
+                step_to_boundary(s, zlo_, dzlo_, true, chunks), step_to_boundary(s, zhi_, dzhi_, false, chunks)});
   double gap_affine = 0;
   for (int j = 0; j < n; ++j) {
     if (has_lo(s, j)) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
@@ -142,7 +146,7 @@ double InteriorPoint::step(LinearSystem& system) {
   const double tau = std::clamp(std::pow(gap_affine / gap, 3), 0.0, 1.0) * gap;
   // Corrector: centring and the predictor's second-order term. dz_* holds the complementarity
   // target until the step is known.
-  for (int j = 0; j < n; ++j) {
+  chunks.each(n, [&](int j) {
     double rhs = -(w_[j] - zlo_[j] + zhi_[j]);
     if (has_lo(s, j)) {
       dzlo_[j] = tau - zlo_[j] * slo_[j] - dzlo_[j] * dslo_[j];
@@ -153,18 +157,20 @@ double InteriorPoint::step(LinearSystem& system) {
       rhs -= dzhi_[j] / shi_[j];
     }
     r_[j] = closed(s, j) ? 0.0 : rhs;
-  }
+  });
   system.solve(r_, d_);
-  slack_steps(s, d_, dslo_, dshi_);
-  for (int j = 0; j < n; ++j) {
+  slack_steps(s, d_, dslo_, dshi_, chunks);
+  chunks.each(n, [&](int j) {
     if (has_lo(s, j)) dzlo_[j] = (dzlo_[j] - zlo_[j] * dslo_[j]) / slo_[j];
     if (has_hi(s, j)) dzhi_[j] = (dzhi_[j] - zhi_[j] * dshi_[j]) / shi_[j];
-  }
+  });
   // One step length for impulses and multipliers (they are coupled through w), 99 % of the way to
   // the boundary.
-  const double alpha =
-      std::min(1.0, kToBoundary * std::min({step_to_boundary(s, slo_, dslo_, true), step_to_boundary(s, shi_, dshi_, false),
-                                            step_to_boundary(s, zlo_, dzlo_, true), step_to_boundary(s, zhi_, dzhi_, false)}));
+  const double alpha = std::min(
+      1.0, kToBoundary * std::min({step_to_boundary(s, slo_, dslo_, true, chunks),
+                                   step_to_boundary(s, shi_, dshi_, false, chunks),
+                                   step_to_boundary(s, zlo_, dzlo_, true, chunks),
+                                   step_to_boundary(s, zhi_, dzhi_, false, chunks)}));
   trial_ = lambda_ + alpha * d_;
   if (!trial_.allFinite() || !(alpha > 0)) return 0;
   lambda_ = trial_;

@@ -29,7 +29,8 @@ class InteriorPoint {
   // One predictor-corrector step (one factorisation); returns its length in (0, 1], or 0 if the
   // system failed to factor, the step is not finite, or complementarity is met to round-off (no
   // step is then taken).
-  double step(LinearSystem& system);
+  // Its loops over rows and bodies run in `chunks`.
+  double step(LinearSystem& system, IslandChunks& chunks);
   const Eigen::VectorXd& lambda() const { return lambda_; }
 
  private:

@@ -116,19 +116,34 @@ std::vector<Mat6> body_masses(const IslandSystem& s) {
   return mass;
 }
 
-void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du) {
-  du.setZero(6 * s.bodies);
-  for (int r = 0; r < s.rows; ++r)
-    for (int slot = 0; slot < 2; ++slot) {
-      const int b = s.body[r][slot];
-      if (b >= 0) du.segment<6>(6 * b) += s.mjac[r][slot] * x[r];
+void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, IslandChunks& chunks) {
+  du.resize(6 * s.bodies);
+  // Each body gathers its rows' terms in row order: the sums of a scatter over the rows.
+  chunks.each(s.bodies, [&](int b) {
+    Vec6 sum = Vec6::Zero();
+    for (int e = s.body_slot_offset[b]; e < s.body_slot_offset[b + 1]; ++e) {
+      const int r = s.body_slots[e] / 2;
+      sum += s.mjac[r][s.body_slots[e] % 2] * x[r];
     }
+    du.segment<6>(6 * b) = sum;
+  });
+}
+
+void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du) {
+  IslandChunks serial;
+  apply_mjt(s, x, du, serial);
+}
+
+void apply_a(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, Eigen::VectorXd& y,
+             IslandChunks& chunks) {
+  apply_mjt(s, x, du, chunks);
+  y.resize(s.rows);
+  chunks.each(s.rows, [&](int r) { y[r] = s.sigma[r] * x[r] + row_velocity(s, r, du); });
 }
 
 void apply_a(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, Eigen::VectorXd& y) {
-  apply_mjt(s, x, du);
-  y.resize(s.rows);
-  for (int r = 0; r < s.rows; ++r) y[r] = s.sigma[r] * x[r] + row_velocity(s, r, du);
+  IslandChunks serial;
+  apply_a(s, x, du, y, serial);
 }
 
 }  // namespace rbpart

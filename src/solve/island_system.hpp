@@ -7,6 +7,7 @@
 #include "graph/islands.hpp"
 #include "scene/bodies.hpp"
 #include "solve/bounds.hpp"
+#include "solve/island_chunks.hpp"
 
 #include <Eigen/Core>
 
@@ -53,7 +54,8 @@ std::vector<int> local_row_index(const Rows& rows, const Islands& islands);
 // M of every body of the island: (m I3, I_world), the inverse of its M^-1 blocks.
 std::vector<Mat6> body_masses(const IslandSystem& s);
 
-// du = M^-1 J^T x per body (6 * bodies entries: linear, angular).
+// du = M^-1 J^T x per body (6 * bodies entries: linear, angular); by bodies in `chunks`.
+void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, IslandChunks& chunks);
 void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du);
 // (J du)_j.
 inline double row_velocity(const IslandSystem& s, int j, const Eigen::VectorXd& du) {
@@ -64,7 +66,9 @@ inline double row_velocity(const IslandSystem& s, int j, const Eigen::VectorXd& 
   }
   return v;
 }
-// y = A x = Sigma x + J M^-1 J^T x; du is scratch.
+// y = A x = Sigma x + J M^-1 J^T x; du is scratch. Bodies, then rows, in `chunks`.
+void apply_a(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, Eigen::VectorXd& y,
+             IslandChunks& chunks);
 void apply_a(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, Eigen::VectorXd& y);
 
 }  // namespace rbpart

@@ -25,20 +25,23 @@ double residual_of(const Eigen::VectorXd& fw, double scale) {
   return r / scale;
 }
 
-void velocities(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, Eigen::VectorXd& w) {
-  apply_a(s, lambda, du, w);
+void velocities(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, Eigen::VectorXd& w,
+                IslandChunks& chunks) {
+  apply_a(s, lambda, du, w, chunks);
   w += s.q;
 }
 
 // Normals and joint rows onto [lo, hi], then friction onto the box of its projected normal.
-void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda) {
-  for (int j = 0; j < s.rows; ++j)
+void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda, IslandChunks& chunks) {
+  chunks.each(s.rows, [&](int j) {
     if (s.normal_of[j] < 0) lambda[j] = std::clamp(lambda[j], s.lo[j], s.hi[j]);
-  for (int j = 0; j < s.rows; ++j)
+  });
+  chunks.each(s.rows, [&](int j) {
     if (s.normal_of[j] >= 0) {
       const double bound = s.mu[j] * std::max(0.0, lambda[s.normal_of[j]]);
       lambda[j] = std::clamp(lambda[j], -bound, bound);
     }
+  });
 }
 
 // The Newton state at (lambda, w): each row's equation and right-hand side, and its RowState (the
@@ -56,12 +59,13 @@ void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Ei
   piece.shift.setZero(n);
   state.resize(n);
   ws.g.resize(n);
+  IslandChunks& chunks = ws.chunks;
   const auto set_free = [&](int j) {  // w_j = 0
     piece.equation[j] = RowEquation::Free;
     ws.g[j] = -s.q[j];
   };
-  for (int j = 0; j < n; ++j) {
-    if (s.normal_of[j] >= 0) continue;
+  chunks.each(n, [&](int j) {
+    if (s.normal_of[j] >= 0) return;
     const double x = lambda[j] - w[j] / s.diag[j];
     RowState st = x <= s.lo[j] ? RowState::Lower : x >= s.hi[j] ? RowState::Upper : RowState::Free;
     if (warm && (*warm)[j] == RowState::Free) st = RowState::Free;
@@ -72,15 +76,15 @@ void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Ei
       piece.equation[j] = RowEquation::Fixed;
       ws.g[j] = st == RowState::Lower ? s.lo[j] : s.hi[j];
     }
-  }
-  for (int j = 0; j < n; ++j) {
+  });
+  chunks.each(n, [&](int j) {
     const int normal = s.normal_of[j];
-    if (normal < 0) continue;
+    if (normal < 0) return;
     ws.g[j] = 0;
     if (piece.equation[normal] != RowEquation::Free || lambda[normal] < 0) {
       piece.equation[j] = RowEquation::Fixed;
       state[j] = RowState::Free;  // sticking: the physical first guess if the box opens again
-      continue;
+      return;
     }
     RowState st;
     if (warm && lambda[normal] > 0) {
@@ -97,40 +101,46 @@ void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Ei
       piece.equation[j] = RowEquation::Tied;
       piece.tie[j] = st == RowState::Upper ? s.mu[j] : -s.mu[j];
     }
-  }
+  });
 }
 
 // e = g - E x for the piece's exact equations (E as in linear_system.hpp, A x matrix-free); returns
 // max |e_j| over the rows.
 double piece_residual(const IslandSystem& s, const Piece& piece, const Eigen::VectorXd& g, const Eigen::VectorXd& x,
-                      Eigen::VectorXd& du, Eigen::VectorXd& ax, Eigen::VectorXd& e) {
-  apply_a(s, x, du, ax);
+                      Eigen::VectorXd& du, Eigen::VectorXd& ax, Eigen::VectorXd& e, IslandChunks& chunks) {
+  apply_a(s, x, du, ax, chunks);
   e.resize(s.rows);
-  double worst = 0;
-  for (int j = 0; j < s.rows; ++j) {
+  // The largest |e_j| as the least -|e_j| (a NaN entry is passed over).
+  const double least = chunks.min(s.rows, [&](int j) {
     switch (piece.equation[j]) {
       case RowEquation::Free: e[j] = g[j] - ax[j] - piece.shift[j] * x[j] + (piece.tie[j] != 0 ? piece.tie[j] * x[s.normal_of[j]] : 0.0); break;
       case RowEquation::Fixed: e[j] = g[j] - x[j]; break;
       case RowEquation::Tied: e[j] = g[j] - (x[j] - piece.tie[j] * x[s.normal_of[j]]); break;
     }
-    worst = std::max(worst, std::abs(e[j]));
-  }
-  return worst;
+    return -std::abs(e[j]);
+  });
+  return std::max(0.0, -least);
 }
 
 }  // namespace
 
 void scaled_natural_map(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
-                        Eigen::VectorXd& fw) {
+                        Eigen::VectorXd& fw, IslandChunks& chunks) {
   fw.resize(s.rows);
-  for (int j = 0; j < s.rows; ++j) {
+  chunks.each(s.rows, [&](int j) {
     double lo = s.lo[j], hi = s.hi[j];
     if (s.normal_of[j] >= 0) {
       hi = s.mu[j] * std::max(0.0, lambda[s.normal_of[j]]);
       lo = -hi;
     }
     fw[j] = (lambda[j] - std::clamp(lambda[j] - w[j] / s.diag[j], lo, std::max(lo, hi))) * s.diag[j];
-  }
+  });
+}
+
+void scaled_natural_map(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
+                        Eigen::VectorXd& fw) {
+  IslandChunks serial;
+  scaled_natural_map(s, lambda, w, fw, serial);
 }
 
 NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_factorizations, Eigen::VectorXd& lambda,
@@ -142,9 +152,9 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   double last = 0;  // the residual of the last point considered
   bool have_best = false;  // the first point is kept even if its residual is not finite
   const auto consider = [&](Eigen::VectorXd& candidate) {
-    project_onto_bounds(s, candidate);
-    velocities(s, candidate, ws.du, ws.trial_w);
-    scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw);
+    project_onto_bounds(s, candidate, ws.chunks);
+    velocities(s, candidate, ws.du, ws.trial_w, ws.chunks);
+    scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw, ws.chunks);
     last = residual_of(ws.trial_fw, scale);
     if (last < result.residual || !have_best) {
       have_best = true;
@@ -165,11 +175,11 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     result.factor_ms += timer.ms();
     if (!factored) return false;
     system.solve(ws.g, ws.x);
-    double error = piece_residual(s, ws.piece, ws.g, ws.x, ws.du, ws.ad, ws.e);
+    double error = piece_residual(s, ws.piece, ws.g, ws.x, ws.du, ws.ad, ws.e, ws.chunks);
     for (int r = 0; r < kRefinements && error > 1e-15 * scale; ++r) {
       system.solve(ws.e, ws.ex);
       ws.trial = ws.x + ws.ex;
-      const double next = piece_residual(s, ws.piece, ws.g, ws.trial, ws.du, ws.ad, ws.e);
+      const double next = piece_residual(s, ws.piece, ws.g, ws.trial, ws.du, ws.ad, ws.e, ws.chunks);
       if (!(next < error)) break;
       error = next;
       ws.x = ws.trial;
@@ -191,7 +201,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       ws.last_state = ws.piece_state;
       if (!solve_piece()) return;
       ws.base = ws.x;
-      velocities(s, ws.base, ws.du, ws.base_w);
+      velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
       const double before = result.residual;
       consider(ws.x);
       idle = result.residual < before ? 0 : idle + 1;
@@ -202,7 +212,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   for (int j = 0; j < s.rows; ++j)
     if (!std::isfinite(ws.start[j])) ws.start[j] = 0;
   ws.base = ws.start;
-  velocities(s, ws.base, ws.du, ws.base_w);
+  velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
   ws.trial = ws.start;
   consider(ws.trial);
   newton_steps(&state);
@@ -216,12 +226,12 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       ++result.factorizations;
       ++result.iterations;
       const Timer timer;
-      const bool stepped = ws.ipm.step(system) > 0;
+      const bool stepped = ws.ipm.step(system, ws.chunks) > 0;
       result.factor_ms += timer.ms();
       ws.trial = ws.ipm.lambda();
       consider(ws.trial);
       if (settled()) break;
-      velocities(s, ws.trial, ws.du, ws.trial_w);
+      velocities(s, ws.trial, ws.du, ws.trial_w, ws.chunks);
       choose_piece(s, ws.trial, ws.trial_w, nullptr, ws);
       if ((ws.piece_state == ws.ipm_state && ws.piece_state != ws.tried_state) || !stepped) {
         ws.tried_state = ws.piece_state;
@@ -234,7 +244,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     }
   }
   lambda = ws.best;
-  velocities(s, lambda, ws.du, ws.w);
+  velocities(s, lambda, ws.du, ws.w, ws.chunks);
   choose_piece(s, lambda, ws.w, nullptr, ws);
   state = ws.piece_state;
   result.settled = result.residual <= kSettledResidual;

@@ -55,6 +55,8 @@ struct NewtonWorkspace {
   std::vector<RowState> piece_state;
   Eigen::VectorXd w, fw, g, x, e, ex, d, ad, trial, trial_w, trial_fw, best, du, start, base, base_w;
   InteriorPoint ipm;
+  // The loops over the island's rows and bodies (one chunk, serial, unless the caller sets more).
+  IslandChunks chunks;
   // The state of the last Newton step; of the interior point's last iterate; the last one tried from it.
   std::vector<RowState> last_state, ipm_state, tried_state;
   // The island's warm start in, answer out (solve_island_newton).
@@ -68,6 +70,8 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
                           std::vector<RowState>& state, NewtonWorkspace& ws);
 
 // D F(lambda) for w = A lambda + q: fw_j = A_jj F_j (friction bounds from lambda's own normals).
+void scaled_natural_map(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
+                        Eigen::VectorXd& fw, IslandChunks& chunks);
 void scaled_natural_map(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
                         Eigen::VectorXd& fw);
 

@@ -15,9 +15,10 @@
 namespace rbpart {
 
 struct NewtonSubstructuredReport {
-  // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases and each
-  // island's serial rest (gathering, set-up, the Newton iteration's own products and line search);
-  // critical_path_ms: the longest island's.
+  // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases, the
+  // Newton iteration's own loops over rows and bodies (in one chunk per part) and each island's
+  // serial rest (gathering, set-up, copies); critical_path_ms: the longest island's, with every
+  // parallel phase and loop at its slowest part or chunk.
   SolveStats solve;
   // Sums over islands; an island holds the parts of its bodies (a part spanning two islands counts
   // once per island), an island of one part has no interface.

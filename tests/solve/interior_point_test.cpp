@@ -91,9 +91,10 @@ TEST(InteriorPoint, ConvergesOnFrictionlessColumns) {
       system.assign(s, 0);
       InteriorPoint ipm;
       ipm.start(s, Eigen::VectorXd::Zero(s.rows));
+      IslandChunks chunks;
       double best = INFINITY;
       for (int step = 0; step < 40 && best > kSettledResidual; ++step) {
-        if (!(ipm.step(system) > 0)) break;
+        if (!(ipm.step(system, chunks) > 0)) break;
         Eigen::VectorXd lambda = ipm.lambda();
         for (int j = 0; j < s.rows; ++j) lambda[j] = std::clamp(lambda[j], s.lo[j], std::max(s.lo[j], s.hi[j]));
         best = std::min(best, residual(s, lambda));

@@ -1,0 +1,79 @@
+#pragma once
+// The Newton solver's own vector work on an island (A x, the natural map, the Newton states, the
+// refinement's residuals, the interior point's updates) in chunks of rows or of bodies that run in
+// parallel, each chunk timed: the substructured solver's critical path (DESIGN.md §7) then counts
+// a loop's slowest chunk, not the whole loop. One chunk (the default) runs every loop serially and
+// untimed. A loop body writes only its own row's or body's entries, and the only reduction is a
+// min, so results do not depend on the chunks or the threads.
+#include "core/parallel.hpp"
+#include "core/timer.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+namespace rbpart {
+
+class IslandChunks {
+ public:
+  // Loops split into `chunks` equal ranges (at least one).
+  void set_count(int chunks) {
+    count_ = std::max(1, chunks);
+    ms_.assign(count_, 0.0);
+    low_.assign(count_, 0.0);
+  }
+  int count() const { return count_; }
+
+  // fn(k) for every k in [0, n): n rows or n bodies.
+  template <class Fn>
+  void each(int n, Fn&& fn) {
+    run(n, [&](int, int begin, int end) {
+      for (int k = begin; k < end; ++k) fn(k);
+    });
+  }
+  // The least fn(k) over k in [0, n) (+inf if n is 0).
+  template <class Fn>
+  double min(int n, Fn&& fn) {
+    double serial = std::numeric_limits<double>::infinity();
+    run(n, [&](int c, int begin, int end) {
+      double low = std::numeric_limits<double>::infinity();
+      for (int k = begin; k < end; ++k) low = std::min(low, fn(k));
+      (count_ == 1 ? serial : low_[c]) = low;
+    });
+    return count_ == 1 ? serial : *std::min_element(low_.begin(), low_.end());
+  }
+
+  // Of the loops run in chunks since the last reset_cost(): the chunks' times summed, each loop's
+  // slowest chunk summed, and the loops' wall time.
+  double work_ms = 0, critical_path_ms = 0, wall_ms = 0;
+  void reset_cost() { work_ms = critical_path_ms = wall_ms = 0; }
+
+ private:
+  template <class Chunk>
+  void run(int n, Chunk&& chunk) {
+    if (count_ == 1) {
+      chunk(0, 0, n);
+      return;
+    }
+    const Timer wall;
+    parallel_for_each(static_cast<std::size_t>(count_), [&](std::size_t c) {
+      const Timer timer;
+      const long long total = n;
+      chunk(static_cast<int>(c), static_cast<int>(total * static_cast<long long>(c) / count_),
+            static_cast<int>(total * static_cast<long long>(c + 1) / count_));
+      ms_[c] = timer.ms();
+    });
+    wall_ms += wall.ms();
+    double slowest = 0;
+    for (const double ms : ms_) {
+      work_ms += ms;
+      slowest = std::max(slowest, ms);
+    }
+    critical_path_ms += slowest;
+  }
+
+  int count_ = 1;
+  std::vector<double> ms_, low_;
+};
+
+}  // namespace rbpart
