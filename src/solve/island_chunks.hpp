@@ -1,9 +1,9 @@
 #pragma once
 // The Newton solver's own vector work on an island (A x, the natural map, the Newton states, the
-// refinement's residuals, the interior point's updates) in chunks of rows or of bodies that run in
-// parallel, each chunk timed: the substructured solver's critical path (DESIGN.md §7) then counts
-// a loop's slowest chunk, not the whole loop. One chunk (the default) runs every loop serially and
-// untimed. A loop body writes only its own row's or body's entries, and the only reduction is a
+// refinement's residuals, the interior point's updates) in chunks of rows or of bodies, each chunk
+// timed, in parallel on large islands: the substructured solver's critical path (DESIGN.md §7)
+// then counts a loop's slowest chunk, not the whole loop. One chunk (the default) runs every loop
+// serially and untimed. A loop body writes only its own row's or body's entries, and the only reduction is a
 // min, so results do not depend on the chunks or the threads.
 #include "core/parallel.hpp"
 #include "core/timer.hpp"
@@ -16,6 +16,11 @@ namespace rbpart {
 
 class IslandChunks {
  public:
+  // A loop over fewer items runs its chunks one after another on the calling thread, still timed
+  // one by one: handing them to other threads would cost more than it saves (a few microseconds a
+  // loop against ~5 ns a row), while each chunk's own time is what the critical path needs.
+  static constexpr int kMinParallelItems = 4096;
+
   // Loops split into `chunks` equal ranges (at least one).
   void set_count(int chunks) {
     count_ = std::max(1, chunks);
@@ -56,13 +61,18 @@ class IslandChunks {
       return;
     }
     const Timer wall;
-    parallel_for_each(static_cast<std::size_t>(count_), [&](std::size_t c) {
+    const auto timed = [&](std::size_t c) {
       const Timer timer;
       const long long total = n;
       chunk(static_cast<int>(c), static_cast<int>(total * static_cast<long long>(c) / count_),
             static_cast<int>(total * static_cast<long long>(c + 1) / count_));
       ms_[c] = timer.ms();
-    });
+    };
+    if (n >= kMinParallelItems) {
+      parallel_for_each(static_cast<std::size_t>(count_), timed);
+    } else {
+      for (int c = 0; c < count_; ++c) timed(static_cast<std::size_t>(c));
+    }
     wall_ms += wall.ms();
     double slowest = 0;
     for (const double ms : ms_) {

@@ -260,13 +260,14 @@ NewtonResult solve_cold(const IslandSystem& s, int dense_max_bodies, Eigen::Vect
   return solve_newton(s, system, SolverParams{}.max_factorizations, lambda, state, ws);
 }
 
-// The solver's loops over rows and bodies run in chunks in parallel (island_chunks.hpp, the
-// substructured solver's vector work) give the serial loops' answer bit for bit, with the same
-// counts, on islands that run the interior-point phase (cold, coupled friction, 60 to 600 rows).
+// The solver's loops over rows and bodies run in chunks (island_chunks.hpp, the substructured
+// solver's vector work) give the serial loops' answer bit for bit, with the same counts, on
+// islands that run the interior-point phase (cold, coupled friction): chunks run one after another
+// (60 and 600 rows) and in parallel (over IslandChunks::kMinParallelItems rows).
 TEST(SolveNewton, LoopsInChunksGiveTheSerialAnswerBitForBit) {
   std::mt19937 rng(41);
   RandomIsland island;
-  for (int rows : {60, 240, 600}) {
+  for (int rows : {60, 600, IslandChunks::kMinParallelItems + 600}) {
     IslandOptions opt;
     opt.rows = rows;
     random_contact_island(rng, opt, island);
