@@ -3,8 +3,8 @@
 // refinement's residuals, the interior point's updates) in chunks of rows or of bodies, each chunk
 // timed, in parallel on large islands: the substructured solver's critical path (DESIGN.md §7)
 // then counts a loop's slowest chunk, not the whole loop. One chunk (the default) runs every loop
-// serially and untimed. A loop body writes only its own row's or body's entries, and the only reduction is a
-// min, so results do not depend on the chunks or the threads.
+// serially and untimed. A loop body writes only its own row's or body's entries, and the only
+// reduction is a min, so results do not depend on the chunks or the threads.
 #include "core/parallel.hpp"
 #include "core/timer.hpp"
 
@@ -27,7 +27,6 @@ class IslandChunks {
     ms_.assign(count_, 0.0);
     low_.assign(count_, 0.0);
   }
-  int count() const { return count_; }
 
   // fn(k) for every k in [0, n): n rows or n bodies.
   template <class Fn>
@@ -48,10 +47,9 @@ class IslandChunks {
     return count_ == 1 ? serial : *std::min_element(low_.begin(), low_.end());
   }
 
-  // Of the loops run in chunks since the last reset_cost(): the chunks' times summed, each loop's
-  // slowest chunk summed, and the loops' wall time.
+  // Of the loops run in more than one chunk so far: the chunks' times summed, each loop's slowest
+  // chunk summed, and the loops' wall time.
   double work_ms = 0, critical_path_ms = 0, wall_ms = 0;
-  void reset_cost() { work_ms = critical_path_ms = wall_ms = 0; }
 
  private:
   template <class Chunk>
