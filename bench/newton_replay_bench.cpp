@@ -5,8 +5,8 @@
 // the end; here every version meets the very same problems, island by island. The problems come
 // from a run with the PGS solver and no position projection (which solves with the Newton
 // solver): not the code under test (a Newton run would hand each version problems of its own),
-// and fast. So the warm starts are PGS's, not the Newton solver's own: a
-// resting island here is not solved by its first factorisation as in a Newton run.
+// and fast. So the warm starts are PGS's, not the Newton solver's own: a resting island here is
+// not solved by its first factorisation as in a Newton run.
 //
 // Set-up, once per scene and untimed: the PGS run, recording the solve stage's input of the chosen
 // steps (set_problem_observer).

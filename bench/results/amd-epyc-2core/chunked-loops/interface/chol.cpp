@@ -3,16 +3,16 @@
 #include <suitesparse/cholmod.h>
 #include <suitesparse/klu.h>
 #include <Eigen/SparseCore>
-#include <chrono>
+#include "dumped_matrix.hpp"
 #include <cstdio>
 #include <vector>
 #include <cstdlib>
 using namespace std;
-static double now(){return chrono::duration<double,milli>(chrono::steady_clock::now().time_since_epoch()).count();}
 int main(int argc,char**argv){
   for(int a=1;a<argc;++a){
-    FILE*f=fopen(argv[a],"rb"); int n,nnz; fread(&n,4,1,f);fread(&nnz,4,1,f);
-    vector<int> p(n+1),i(nnz); vector<double> x(nnz); fread(p.data(),4,n+1,f);fread(i.data(),4,nnz,f);fread(x.data(),8,nnz,f);fclose(f);
+    DumpedMatrix d = read_dumped(argv[a]);
+    const int n = d.n, nnz = d.nnz;
+    vector<int>& p = d.p; vector<int>& i = d.i; vector<double>& x = d.x;
     Eigen::Map<const Eigen::SparseMatrix<double>> m(n,n,nnz,p.data(),i.data(),x.data());
     Eigen::SparseMatrix<double> S = 0.5*(Eigen::SparseMatrix<double>(m) + Eigen::SparseMatrix<double>(m.transpose()));
     S.makeCompressed();
@@ -23,7 +23,7 @@ int main(int argc,char**argv){
     A.stype=-1; A.itype=CHOLMOD_INT; A.xtype=CHOLMOD_REAL; A.dtype=CHOLMOD_DOUBLE; A.sorted=1; A.packed=1;
     cholmod_factor* L=cholmod_analyze(&A,&c);
     cholmod_factorize(&A,L,&c);
-    const int R=10; double t0=now(); for(int r=0;r<R;++r) cholmod_factorize(&A,L,&c); double tc=(now()-t0)/R;
+    const int R=10; double t0=now_ms(); for(int r=0;r<R;++r) cholmod_factorize(&A,L,&c); double tc=(now_ms()-t0)/R;
     int ok = c.status==CHOLMOD_OK && L->minor==L->n;
     Eigen::VectorXd bv=Eigen::VectorXd::Random(n); cholmod_dense B{}; B.nrow=B.d=B.nzmax=n; B.ncol=1; B.xtype=CHOLMOD_REAL; B.dtype=CHOLMOD_DOUBLE; B.x=bv.data();
     cholmod_dense* X=cholmod_solve(CHOLMOD_A,L,&B,&c);
@@ -33,7 +33,7 @@ int main(int argc,char**argv){
     klu_common k; klu_defaults(&k);
     klu_symbolic* Sy=klu_analyze(n,S.outerIndexPtr(),S.innerIndexPtr(),&k);
     klu_numeric* Nu=klu_factor(S.outerIndexPtr(),S.innerIndexPtr(),S.valuePtr(),Sy,&k);
-    t0=now(); for(int r=0;r<R;++r) klu_refactor(S.outerIndexPtr(),S.innerIndexPtr(),S.valuePtr(),Sy,Nu,&k); double tk=(now()-t0)/R;
+    t0=now_ms(); for(int r=0;r<R;++r) klu_refactor(S.outerIndexPtr(),S.innerIndexPtr(),S.valuePtr(),Sy,Nu,&k); double tk=(now_ms()-t0)/R;
     printf("%s n=%d CHOLMOD %.3f ms (posdef %d, flops %.2e) KLU refactor (same matrix) %.3f ms\n",argv[a],n,tc,ok,c.fl,tk);
   }
 }
