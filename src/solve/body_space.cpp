@@ -36,10 +36,28 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   inv_s_.assign(nr, 0.0);
   tie_weight_.assign(nr, 0.0);
   assembled_ = factored_ = false;
-  if (same_pattern) {
-    n_.keep_pattern();
-    return;
+  if (same_pattern) n_.keep_pattern();
+  else assign_pattern(cliques, dense_max_bodies);
+  diagonal_.resize(nb);
+  for (int b = 0; b < nb; ++b) diagonal_[b] = n_.slot(b, b);
+  const auto slots = [&](const std::array<int, 2>& rows_bodies, const std::array<int, 2>& cols_bodies) {
+    std::array<PatternFactor::Slot, 4> at;
+    for (int p = 0; p < 2; ++p)
+      for (int q = 0; q < 2; ++q)
+        at[2 * p + q] = rows_bodies[p] < 0 || cols_bodies[q] < 0 ? PatternFactor::Slot{-1, 0}
+                                                                 : n_.slot(rows_bodies[p], cols_bodies[q]);
+    return at;
+  };
+  own_.resize(nr);
+  tied_.resize(nr);
+  for (int k = 0; k < nr; ++k) {
+    own_[k] = slots(body_[k], body_[k]);
+    if (normal_[k] >= 0) tied_[k] = slots(body_[k], body_[normal_[k]]);
   }
+}
+
+void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies) {
+  const int nb = bodies(), nr = static_cast<int>(rows_.size());
   std::vector<std::array<int, 2>> pairs;
   pairs.reserve(2 * nr + nb);
   for (int b = 0; b < nb; ++b) pairs.push_back({b, b});
@@ -73,7 +91,7 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
   assembled_ = true;
   const int nr = static_cast<int>(rows_.size());
   n_.set_zero();
-  for (int b = 0; b < bodies(); ++b) block(b, b) = mass_[b];
+  for (int b = 0; b < bodies(); ++b) n_.block(diagonal_[b]) = mass_[b];
   bool tied = false;
   for (int k = 0; k < nr; ++k) {
     const int j = rows_[k];
@@ -89,20 +107,20 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
                      : equation_[k] == RowEquation::Tied ? tie_[k]
                      : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k]
                                                          : 0.0;
-  const auto add = [&](int k, int m, double scale) {
+  const auto add = [&](int k, int m, double scale, const std::array<PatternFactor::Slot, 4>& at) {
     const int j = rows_[k], n = rows_[m];
     for (int p = 0; p < 2; ++p) {
       if (body_[k][p] < 0) continue;
       const Vec6 jp = scale * s.jac[j][p];
       for (int q = 0; q < 2; ++q)
-        if (body_[m][q] >= 0) block(body_[k][p], body_[m][q]).noalias() += jp * s.jac[n][q].transpose();
+        if (at[2 * p + q].start >= 0) n_.block(at[2 * p + q]).noalias() += jp * s.jac[n][q].transpose();
     }
   };
   for (int k = 0; k < nr; ++k) {
     // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n (the normal's slots on the same bodies).
-    if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k]);
+    if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k], own_[k]);
     if (tie_weight_[k] != 0) {
-      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]]);
+      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]], tied_[k]);
       tied = true;
     }
   }

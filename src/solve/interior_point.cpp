@@ -15,8 +15,6 @@ constexpr double kToBoundary = 0.99;  // fraction of the step to the nearest bou
 bool closed(const IslandSystem& s, int j) {
   return s.normal_of[j] >= 0 ? !(s.mu[j] > 0) : !(s.lo[j] < s.hi[j]);
 }
-bool has_lo(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of[j] >= 0 || std::isfinite(s.lo[j])); }
-bool has_hi(const IslandSystem& s, int j) { return !closed(s, j) && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j])); }
 
 // Slacks of lambda's bounds (friction: the box of lambda's own normal); 0 where there is no bound.
 void slacks(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& slo, Eigen::VectorXd& shi,
@@ -36,23 +34,23 @@ void slacks(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorX
 }
 
 // Changes of the slacks for a change d of the impulses (friction: with its normal's change).
-void slack_steps(const IslandSystem& s, const Eigen::VectorXd& d, Eigen::VectorXd& dslo, Eigen::VectorXd& dshi,
-                 IslandChunks& chunks) {
+void slack_steps(const IslandSystem& s, const InteriorPoint::Sides& has, const Eigen::VectorXd& d,
+                 Eigen::VectorXd& dslo, Eigen::VectorXd& dshi, IslandChunks& chunks) {
   dslo.resize(s.rows);
   dshi.resize(s.rows);
   chunks.each(s.rows, [&](int j) {
     const int n = s.normal_of[j];
     const double coupled = n >= 0 ? s.mu[j] * d[n] : 0.0;
-    dslo[j] = has_lo(s, j) ? d[j] + coupled : 0.0;
-    dshi[j] = has_hi(s, j) ? coupled - d[j] : 0.0;
+    dslo[j] = has.lo[j] ? d[j] + coupled : 0.0;
+    dshi[j] = has.hi[j] ? coupled - d[j] : 0.0;
   });
 }
 
 // The largest alpha in (0, 1] with x + alpha dx >= 0 on the bounds that exist.
-double step_to_boundary(const IslandSystem& s, const Eigen::VectorXd& x, const Eigen::VectorXd& dx, bool lower,
+double step_to_boundary(const std::vector<char>& has, const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
                         IslandChunks& chunks) {
-  const double alpha = chunks.min(s.rows, [&](int j) {
-    return (lower ? has_lo(s, j) : has_hi(s, j)) && dx[j] < 0 ? -x[j] / dx[j] : 1.0;
+  const double alpha = chunks.min(static_cast<int>(has.size()), [&](int j) {
+    return has[j] && dx[j] < 0 ? -x[j] / dx[j] : 1.0;
   });
   return std::min(1.0, alpha);
 }
@@ -62,12 +60,20 @@ double step_to_boundary(const IslandSystem& s, const Eigen::VectorXd& x, const E
 void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) {
   s_ = &s;
   const int n = s.rows;
+  has_.closed.resize(n);
+  has_.lo.resize(n);
+  has_.hi.resize(n);
+  for (int j = 0; j < n; ++j) {
+    has_.closed[j] = closed(s, j);
+    has_.lo[j] = !has_.closed[j] && (s.normal_of[j] >= 0 || std::isfinite(s.lo[j]));
+    has_.hi[j] = !has_.closed[j] && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j]));
+  }
   const double scale = std::max(max_abs(s.q), 1e-12);
   lambda_ = lambda;
   for (int j = 0; j < n; ++j) {
     if (!std::isfinite(lambda_[j])) lambda_[j] = 0;
-    if (closed(s, j)) lambda_[j] = s.normal_of[j] >= 0 ? 0.0 : s.lo[j];
-    if (s.normal_of[j] >= 0 || closed(s, j)) continue;
+    if (has_.closed[j]) lambda_[j] = s.normal_of[j] >= 0 ? 0.0 : s.lo[j];
+    if (s.normal_of[j] >= 0 || has_.closed[j]) continue;
     const double margin = 0.1 * scale / s.diag[j];
     const bool lo = std::isfinite(s.lo[j]), hi = std::isfinite(s.hi[j]);
     const double inset = lo && hi ? std::min(margin, 0.25 * (s.hi[j] - s.lo[j])) : margin;
@@ -75,7 +81,7 @@ void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) 
     if (hi) lambda_[j] = std::min(lambda_[j], s.hi[j] - inset);
   }
   for (int j = 0; j < n; ++j)
-    if (s.normal_of[j] >= 0 && !closed(s, j)) {
+    if (s.normal_of[j] >= 0 && !has_.closed[j]) {
       const double bound = 0.5 * s.mu[j] * lambda_[s.normal_of[j]];
       lambda_[j] = std::clamp(lambda_[j], -bound, bound);
     }
@@ -84,11 +90,11 @@ void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) 
   zlo_.setZero(n);
   zhi_.setZero(n);
   for (int j = 0; j < n; ++j) {
-    if (has_lo(s, j)) zlo_[j] = std::max(w_[j], 0.0) + 0.1 * scale;
-    if (has_hi(s, j)) zhi_[j] = std::max(-w_[j], 0.0) + 0.1 * scale;
+    if (has_.lo[j]) zlo_[j] = std::max(w_[j], 0.0) + 0.1 * scale;
+    if (has_.hi[j]) zhi_[j] = std::max(-w_[j], 0.0) + 0.1 * scale;
   }
   piece_.equation.resize(n);
-  for (int j = 0; j < n; ++j) piece_.equation[j] = closed(s, j) ? RowEquation::Fixed : RowEquation::Free;
+  for (int j = 0; j < n; ++j) piece_.equation[j] = has_.closed[j] ? RowEquation::Fixed : RowEquation::Free;
   piece_.tie.setZero(n);
   piece_.shift.setZero(n);
   gap0_ = 0;
@@ -104,18 +110,18 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   int bounds = 0;
   for (int j = 0; j < n; ++j) {
     double dlo = 0, dhi = 0;
-    if (has_lo(s, j)) {
+    if (has_.lo[j]) {
       gap += zlo_[j] * slo_[j];
       dlo = zlo_[j] / slo_[j];
       ++bounds;
     }
-    if (has_hi(s, j)) {
+    if (has_.hi[j]) {
       gap += zhi_[j] * shi_[j];
       dhi = zhi_[j] / shi_[j];
       ++bounds;
     }
     piece_.shift[j] = dlo + dhi;
-    if (s.normal_of[j] >= 0 && !closed(s, j)) piece_.tie[j] = s.mu[j] * (dhi - dlo);
+    if (s.normal_of[j] >= 0 && !has_.closed[j]) piece_.tie[j] = s.mu[j] * (dhi - dlo);
   }
   if (bounds == 0) return 0;
   gap /= bounds;
@@ -125,22 +131,22 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   if (!system.factor(piece_)) return 0;
   // Predictor (tau = 0): the right-hand side is -w (0 on closed rows, which do not move).
   r_.resize(n);
-  chunks.each(n, [&](int j) { r_[j] = closed(s, j) ? 0.0 : -w_[j]; });
+  chunks.each(n, [&](int j) { r_[j] = has_.closed[j] ? 0.0 : -w_[j]; });
   system.solve(r_, d_);
-  slack_steps(s, d_, dslo_, dshi_, chunks);
+  slack_steps(s, has_, d_, dslo_, dshi_, chunks);
   dzlo_.resize(n);
   dzhi_.resize(n);
   chunks.each(n, [&](int j) {
-    dzlo_[j] = has_lo(s, j) ? -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j] : 0.0;
-    dzhi_[j] = has_hi(s, j) ? -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j] : 0.0;
+    dzlo_[j] = has_.lo[j] ? -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j] : 0.0;
+    dzhi_[j] = has_.hi[j] ? -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j] : 0.0;
   });
   const double affine =
-      std::min({step_to_boundary(s, slo_, dslo_, true, chunks), step_to_boundary(s, shi_, dshi_, false, chunks),
-                step_to_boundary(s, zlo_, dzlo_, true, chunks), step_to_boundary(s, zhi_, dzhi_, false, chunks)});
+      std::min({step_to_boundary(has_.lo, slo_, dslo_, chunks), step_to_boundary(has_.hi, shi_, dshi_, chunks),
+                step_to_boundary(has_.lo, zlo_, dzlo_, chunks), step_to_boundary(has_.hi, zhi_, dzhi_, chunks)});
   double gap_affine = 0;
   for (int j = 0; j < n; ++j) {
-    if (has_lo(s, j)) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
-    if (has_hi(s, j)) gap_affine += (zhi_[j] + affine * dzhi_[j]) * (shi_[j] + affine * dshi_[j]);
+    if (has_.lo[j]) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
+    if (has_.hi[j]) gap_affine += (zhi_[j] + affine * dzhi_[j]) * (shi_[j] + affine * dshi_[j]);
   }
   gap_affine /= bounds;
   const double tau = std::clamp(std::pow(gap_affine / gap, 3), 0.0, 1.0) * gap;
@@ -148,29 +154,29 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   // target until the step is known.
   chunks.each(n, [&](int j) {
     double rhs = -(w_[j] - zlo_[j] + zhi_[j]);
-    if (has_lo(s, j)) {
+    if (has_.lo[j]) {
       dzlo_[j] = tau - zlo_[j] * slo_[j] - dzlo_[j] * dslo_[j];
       rhs += dzlo_[j] / slo_[j];
     }
-    if (has_hi(s, j)) {
+    if (has_.hi[j]) {
       dzhi_[j] = tau - zhi_[j] * shi_[j] - dzhi_[j] * dshi_[j];
       rhs -= dzhi_[j] / shi_[j];
     }
-    r_[j] = closed(s, j) ? 0.0 : rhs;
+    r_[j] = has_.closed[j] ? 0.0 : rhs;
   });
   system.solve(r_, d_);
-  slack_steps(s, d_, dslo_, dshi_, chunks);
+  slack_steps(s, has_, d_, dslo_, dshi_, chunks);
   chunks.each(n, [&](int j) {
-    if (has_lo(s, j)) dzlo_[j] = (dzlo_[j] - zlo_[j] * dslo_[j]) / slo_[j];
-    if (has_hi(s, j)) dzhi_[j] = (dzhi_[j] - zhi_[j] * dshi_[j]) / shi_[j];
+    if (has_.lo[j]) dzlo_[j] = (dzlo_[j] - zlo_[j] * dslo_[j]) / slo_[j];
+    if (has_.hi[j]) dzhi_[j] = (dzhi_[j] - zhi_[j] * dshi_[j]) / shi_[j];
   });
   // One step length for impulses and multipliers (they are coupled through w), 99 % of the way to
   // the boundary.
   const double alpha = std::min(
-      1.0, kToBoundary * std::min({step_to_boundary(s, slo_, dslo_, true, chunks),
-                                   step_to_boundary(s, shi_, dshi_, false, chunks),
-                                   step_to_boundary(s, zlo_, dzlo_, true, chunks),
-                                   step_to_boundary(s, zhi_, dzhi_, false, chunks)}));
+      1.0, kToBoundary * std::min({step_to_boundary(has_.lo, slo_, dslo_, chunks),
+                                   step_to_boundary(has_.hi, shi_, dshi_, chunks),
+                                   step_to_boundary(has_.lo, zlo_, dzlo_, chunks),
+                                   step_to_boundary(has_.hi, zhi_, dzhi_, chunks)}));
   trial_ = lambda_ + alpha * d_;
   if (!trial_.allFinite() || !(alpha > 0)) return 0;
   lambda_ = trial_;

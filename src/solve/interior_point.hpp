@@ -17,6 +17,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace rbpart {
 
 // Mehrotra's method one factorisation at a time, so that the Newton solver can try its exact step
@@ -33,9 +35,15 @@ class InteriorPoint {
   double step(LinearSystem& system, IslandChunks& chunks);
   const Eigen::VectorXd& lambda() const { return lambda_; }
 
+  // Per row: no interior (held at its bound), a lower bound, an upper bound (friction: both).
+  struct Sides {
+    std::vector<char> closed, lo, hi;
+  };
+
  private:
   const IslandSystem* s_ = nullptr;
   double gap0_ = 0;
+  Sides has_;
   Piece piece_;
   Eigen::VectorXd lambda_, zlo_, zhi_, slo_, shi_, r_, d_, w_, du_, dzlo_, dzhi_, dslo_, dshi_, trial_;
 };

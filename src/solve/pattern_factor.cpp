@@ -51,7 +51,7 @@ void PatternFactor::assign_blocks(int blocks, const std::vector<std::array<int, 
   assign_sparse(6 * blocks, std::move(colptr), std::move(rowind));
 }
 
-PatternFactor::Block PatternFactor::block(int r, int c) {
+PatternFactor::Slot PatternFactor::slot(int r, int c) const {
   const int start = column_start(6 * c), stride = column_start(6 * c + 1) - start;
   int position = r;
   if (!dense_) {
@@ -59,7 +59,7 @@ PatternFactor::Block PatternFactor::block(int r, int c) {
     const int* last = adjacent_.data() + adjacent_start_[c + 1];
     position = static_cast<int>(std::lower_bound(first, last, r) - first);
   }
-  return Block(values() + start + 6 * position, 6, 6, Eigen::OuterStride<>(stride));
+  return {start + 6 * position, stride};
 }
 
 void PatternFactor::keep_pattern() {

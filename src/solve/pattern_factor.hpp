@@ -33,9 +33,16 @@ class PatternFactor {
   // `pairs` (sorted, unique, both triangles, every diagonal block among them): dense if blocks <=
   // dense_max_blocks, else sparse. The same sparse pattern keeps its analyses (assign_sparse).
   void assign_blocks(int blocks, const std::vector<std::array<int, 2>>& pairs, int dense_max_blocks);
-  // Block (r, c) of a matrix assigned by assign_blocks(); it must be one of its pairs.
+  // Block (r, c) of a matrix assigned by assign_blocks(); it must be one of its pairs. Its slot (first
+  // entry in values() and column stride) holds while the pattern does: callers that assemble often
+  // look their blocks up once.
   using Block = Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>>;
-  Block block(int r, int c);
+  struct Slot {
+    int start = 0, stride = 0;
+  };
+  Slot slot(int r, int c) const;
+  Block block(Slot at) { return Block(values() + at.start, 6, 6, Eigen::OuterStride<>(at.stride)); }
+  Block block(int r, int c) { return block(slot(r, c)); }
 
   int size() const { return n_; }
   bool dense() const { return dense_; }
