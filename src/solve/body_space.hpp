@@ -43,6 +43,9 @@ class BodySpaceSystem {
   bool assemble(const Piece& piece);
   // N's block of (local body r, local body c), both adjacent in its pattern: to add to after assemble().
   PatternFactor::Block block(int r, int c) { return n_.block(r, c); }
+  // The same through its slot, which holds until the next assign().
+  PatternFactor::Slot slot(int r, int c) const { return n_.slot(r, c); }
+  PatternFactor::Block block(PatternFactor::Slot at) { return n_.block(at); }
   bool factor_assembled(bool symmetric);
   // Whether `piece` gives the rows the equations, ties and shifts of the last assemble(), and N
   // was factored since.

@@ -109,10 +109,26 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     }
     // Sorted by (r, c) on local bodies, which keeps the interior positions' order.
     p.n_ii.assign_blocks(static_cast<int>(p.interior.size()), interior_pairs, dense_max_bodies);
+    const auto slots = [&](const std::vector<std::array<int, 2>>& blocks) {
+      std::vector<PatternFactor::Slot> at;
+      for (const auto& [r, c] : blocks) at.push_back(p.n.slot(r, c));
+      return at;
+    };
+    p.ii_at = slots(p.ii);
+    p.ik_at = slots(p.ik);
+    p.ki_at = slots(p.ki);
+    p.kk_at = slots(p.kk);
+    p.ii_to.clear();
+    for (const auto& [r, c] : p.ii) p.ii_to.push_back(p.n_ii.slot(p.position[r], p.position[c]));
   }
   // S carries no mass of its own: the parts' blocks hold it.
   interface_.assign(s, std::move(interface_bodies), std::move(interface_rows), std::vector<Mat6>(s.bodies, Mat6::Zero()),
                     dense_max_bodies, cliques);
+  for (Part& p : parts_) {
+    p.schur_at.clear();
+    for (const int c : p.boundary_at)
+      for (const int r : p.boundary_at) p.schur_at.push_back(interface_.slot(r, c));
+  }
   r_.resize(6 * interface_.bodies());
   last_ = total_ = SubstructuredCost{};
 }
@@ -123,15 +139,18 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   const bool tied = p.n.assemble(piece);
   const int ni = static_cast<int>(p.interior.size()), k = static_cast<int>(p.boundary.size());
   p.n_ii.set_zero();
-  for (const auto& [r, c] : p.ii) p.n_ii.block(p.position[r], p.position[c]) = p.n.block(r, c);
+  for (std::size_t b = 0; b < p.ii.size(); ++b) p.n_ii.block(p.ii_to[b]) = p.n.block(p.ii_at[b]);
   p.ok = ni == 0 || p.n_ii.factor(!tied);
   if (!p.ok || k == 0) return;
   p.x.setZero(6 * ni, 6 * k);
-  for (const auto& [r, c] : p.ik) p.x.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  for (std::size_t b = 0; b < p.ik.size(); ++b)
+    p.x.block<6, 6>(6 * p.position[p.ik[b][0]], 6 * p.position[p.ik[b][1]]) = p.n.block(p.ik_at[b]);
   p.n_ki.setZero(6 * k, 6 * ni);
-  for (const auto& [r, c] : p.ki) p.n_ki.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  for (std::size_t b = 0; b < p.ki.size(); ++b)
+    p.n_ki.block<6, 6>(6 * p.position[p.ki[b][0]], 6 * p.position[p.ki[b][1]]) = p.n.block(p.ki_at[b]);
   p.schur.setZero(6 * k, 6 * k);
-  for (const auto& [r, c] : p.kk) p.schur.block<6, 6>(6 * p.position[r], 6 * p.position[c]) = p.n.block(r, c);
+  for (std::size_t b = 0; b < p.kk.size(); ++b)
+    p.schur.block<6, 6>(6 * p.position[p.kk[b][0]], 6 * p.position[p.kk[b][1]]) = p.n.block(p.kk_at[b]);
   if (ni == 0) return;
   p.n_ii.solve(p.x.data(), 6 * k);
   p.schur.noalias() -= p.n_ki * p.x;
@@ -153,8 +172,7 @@ bool SubstructuredSystem::factor(const Piece& piece) {
       for (const Part& p : parts_) {
         const int k = static_cast<int>(p.boundary.size());
         for (int c = 0; c < k; ++c)
-          for (int r = 0; r < k; ++r)
-            interface_.block(p.boundary_at[r], p.boundary_at[c]) += p.schur.block<6, 6>(6 * r, 6 * c);
+          for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
       }
       // Ties, and free rows coupled to their normal, anywhere in the island make the N_i or S non-symmetric.
       const bool symmetric =

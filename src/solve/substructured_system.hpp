@@ -73,6 +73,8 @@ class SubstructuredSystem final : public LinearSystem {
     std::vector<int> position;          // per local body: its position in I_i or in K_i
     // N_i's blocks (local bodies) by where they lie: I x I, I x K, K x I, K x K.
     std::vector<std::array<int, 2>> ii, ik, ki, kk;
+    // Their slots in N_i (and of the I x I blocks in N_II), and of K_i x K_i in S (column-major).
+    std::vector<PatternFactor::Slot> ii_at, ii_to, ik_at, ki_at, kk_at, schur_at;
     PatternFactor n_ii;                 // N_II, on I_i's positions
     bool refactored = false, ok = false;
     Eigen::MatrixXd x;                  // X_i = N_II^-1 N_IK (6 |I_i| x 6 |K_i|)
