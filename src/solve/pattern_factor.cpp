@@ -114,10 +114,11 @@ void PatternFactor::solve(double* x, int columns) {
     return;
   }
   // CHOLMOD and KLU check their own solves.
-  for (int c = 0; c < columns; ++c) {
-    if (lu_) klu_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
-    else cholmod_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
+  if (lu_) {
+    klu_.solve(x, columns);
+    return;
   }
+  for (int c = 0; c < columns; ++c) cholmod_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
 }
 
 }  // namespace rbpart

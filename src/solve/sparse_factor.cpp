@@ -198,12 +198,13 @@ bool KluFactor::factorize() {
 
 void KluFactor::repivot() { klu_free_numeric(&impl_->numeric, &impl_->c); }
 
-void KluFactor::solve(double* x) {
+void KluFactor::solve(double* x, int columns) {
   Impl& m = *impl_;
-  Eigen::VectorXd b;
-  if constexpr (kValidate) b = Eigen::Map<const Eigen::VectorXd>(x, m.a.n);
-  if (!m.numeric || !klu_solve(m.symbolic, m.numeric, m.a.n, 1, x, &m.c)) throw std::runtime_error("KLU solve failed");
-  RBPART_CHECK(solve_violation(eigen_view(m.a), Eigen::Map<const Eigen::VectorXd>(x, m.a.n), b));
+  Eigen::MatrixXd b;
+  if constexpr (kValidate) b = Eigen::Map<const Eigen::MatrixXd>(x, m.a.n, columns);
+  if (!m.numeric || !klu_solve(m.symbolic, m.numeric, m.a.n, columns, x, &m.c))
+    throw std::runtime_error("KLU solve failed");
+  RBPART_CHECK(solve_violation(eigen_view(m.a), Eigen::Map<const Eigen::MatrixXd>(x, m.a.n, columns), b));
 }
 
 }  // namespace rbpart

@@ -49,8 +49,8 @@ class KluFactor {
   bool factorize();
   // The next factorize() searches its pivots afresh instead of reusing the last ones.
   void repivot();
-  // x <- A^-1 x.
-  void solve(double* x);
+  // x <- A^-1 x for `columns` vectors stored one after another (KLU takes them four at a time).
+  void solve(double* x, int columns = 1);
 
  private:
   struct Impl;

@@ -145,15 +145,16 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.x.setZero(6 * ni, 6 * k);
   for (std::size_t b = 0; b < p.ik.size(); ++b)
     p.x.block<6, 6>(6 * p.position[p.ik[b][0]], 6 * p.position[p.ik[b][1]]) = p.n.block(p.ik_at[b]);
-  p.n_ki.setZero(6 * k, 6 * ni);
-  for (std::size_t b = 0; b < p.ki.size(); ++b)
-    p.n_ki.block<6, 6>(6 * p.position[p.ki[b][0]], 6 * p.position[p.ki[b][1]]) = p.n.block(p.ki_at[b]);
   p.schur.setZero(6 * k, 6 * k);
   for (std::size_t b = 0; b < p.kk.size(); ++b)
     p.schur.block<6, 6>(6 * p.position[p.kk[b][0]], 6 * p.position[p.kk[b][1]]) = p.n.block(p.kk_at[b]);
   if (ni == 0) return;
   p.n_ii.solve(p.x.data(), 6 * k);
-  p.schur.noalias() -= p.n_ki * p.x;
+  // N_KI X_i block by block: N_KI holds only the blocks of rows joining a boundary body to an
+  // interior one, a few per boundary body, where a dense product would run over all of I_i.
+  for (std::size_t b = 0; b < p.ki.size(); ++b)
+    p.schur.middleRows<6>(6 * p.position[p.ki[b][0]]).noalias() -=
+        p.n.block(p.ki_at[b]) * p.x.middleRows<6>(6 * p.position[p.ki[b][1]]);
   p.ok = p.schur.allFinite();
 }
 
@@ -197,7 +198,9 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
     if (!p.interior.empty()) p.n_ii.solve(p.v.data());
     p.c.resize(6 * static_cast<Eigen::Index>(p.boundary.size()));
     for (std::size_t l = 0; l < p.boundary.size(); ++l) p.c.segment<6>(6 * l) = p.h.segment<6>(6 * p.boundary[l]);
-    if (!p.boundary.empty() && !p.interior.empty()) p.c.noalias() -= p.n_ki * p.v;
+    for (std::size_t b = 0; b < p.ki.size(); ++b)
+      p.c.segment<6>(6 * p.position[p.ki[b][0]]).noalias() -=
+          p.n.block(p.ki_at[b]) * p.v.segment<6>(6 * p.position[p.ki[b][1]]);
   });
   // The interface bodies' velocities u_K, in part order, then the interface rows' impulses.
   if (interface_.bodies() > 0)

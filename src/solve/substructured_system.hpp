@@ -78,7 +78,6 @@ class SubstructuredSystem final : public LinearSystem {
     PatternFactor n_ii;                 // N_II, on I_i's positions
     bool refactored = false, ok = false;
     Eigen::MatrixXd x;                  // X_i = N_II^-1 N_IK (6 |I_i| x 6 |K_i|)
-    Eigen::MatrixXd n_ki;               // N_KI (6 |K_i| x 6 |I_i|)
     Eigen::MatrixXd schur;              // N_KK - N_KI X_i, the part's block of S
     Eigen::VectorXd h, v, c;            // h_i then u_i; v_i; h_K - N_KI v_i, then u_K
     double ms = 0;                      // the part's time in the current parallel phase
