@@ -1,7 +1,6 @@
 #include "solve/body_space.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace rbpart {
 
@@ -50,11 +49,10 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
     return at;
   };
   own_.resize(nr);
+  tied_.resize(nr);
   for (int k = 0; k < nr; ++k) {
     own_[k] = slots(body_[k], body_[k]);
-    // A tie's term J_j^T J_n lies on the row's own blocks: a friction row acts on its normal's bodies.
-    if (normal_[k] >= 0 && body_[normal_[k]] != body_[k])
-      throw std::logic_error("BodySpaceSystem: a friction row and its normal act on different bodies");
+    if (normal_[k] >= 0) tied_[k] = slots(body_[k], body_[normal_[k]]);
   }
 }
 
@@ -109,19 +107,21 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
                      : equation_[k] == RowEquation::Tied ? tie_[k]
                      : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k]
                                                          : 0.0;
+  const auto add = [&](int k, int m, double scale, const std::array<PatternFactor::Slot, 4>& at) {
+    const int j = rows_[k], n = rows_[m];
+    for (int p = 0; p < 2; ++p) {
+      if (body_[k][p] < 0) continue;
+      const Vec6 jp = scale * s.jac[j][p];
+      for (int q = 0; q < 2; ++q)
+        if (at[2 * p + q].start >= 0) n_.block(at[2 * p + q]).noalias() += jp * s.jac[n][q].transpose();
+    }
+  };
   for (int k = 0; k < nr; ++k) {
-    // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n, on the same blocks (a friction
-    // row acts on its normal's bodies): J_j^T (a J_j + b J_n) in one product per block.
-    const bool own = equation_[k] == RowEquation::Free, tie = tie_weight_[k] != 0;
-    if (!own && !tie) continue;
-    tied = tied || tie;
-    const int j = rows_[k], n = tie ? rows_[normal_[k]] : j;
-    const double a = own ? inv_s_[k] : 0.0, b = tie ? tie_weight_[k] * inv_s_[normal_[k]] : 0.0;
-    for (int q = 0; q < 2; ++q) {
-      if (body_[k][q] < 0) continue;
-      const Vec6 right = a * s.jac[j][q] + b * s.jac[n][q];
-      for (int p = 0; p < 2; ++p)
-        if (own_[k][2 * p + q].start >= 0) n_.block(own_[k][2 * p + q]).noalias() += s.jac[j][p] * right.transpose();
+    // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n (the normal's slots on the same bodies).
+    if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k], own_[k]);
+    if (tie_weight_[k] != 0) {
+      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]], tied_[k]);
+      tied = true;
     }
   }
   return tied;
