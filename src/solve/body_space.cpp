@@ -1,6 +1,7 @@
 #include "solve/body_space.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rbpart {
 
@@ -30,30 +31,29 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
                                     : static_cast<int>(std::lower_bound(rows_.begin(), rows_.end(), s.normal_of[j]) -
                                                        rows_.begin());
   }
+  // A tie's term J_j^T J_n lies on the row's own blocks: a friction row acts on its normal's bodies.
+  for (int k = 0; k < nr; ++k)
+    if (normal_[k] >= 0 && body_[normal_[k]] != body_[k])
+      throw std::logic_error("BodySpaceSystem: a friction row and its normal act on different bodies");
   equation_.assign(nr, RowEquation::Fixed);
   tie_.assign(nr, 0.0);
   shift_.assign(nr, 0.0);
   inv_s_.assign(nr, 0.0);
   tie_weight_.assign(nr, 0.0);
   assembled_ = factored_ = false;
-  if (same_pattern) n_.keep_pattern();
-  else assign_pattern(cliques, dense_max_bodies);
+  if (same_pattern) {  // the blocks' slots hold as well
+    n_.keep_pattern();
+    return;
+  }
+  assign_pattern(cliques, dense_max_bodies);
   diagonal_.resize(nb);
   for (int b = 0; b < nb; ++b) diagonal_[b] = n_.slot(b, b);
-  const auto slots = [&](const std::array<int, 2>& rows_bodies, const std::array<int, 2>& cols_bodies) {
-    std::array<PatternFactor::Slot, 4> at;
+  own_.resize(nr);
+  for (int k = 0; k < nr; ++k)
     for (int p = 0; p < 2; ++p)
       for (int q = 0; q < 2; ++q)
-        at[2 * p + q] = rows_bodies[p] < 0 || cols_bodies[q] < 0 ? PatternFactor::Slot{-1, 0}
-                                                                 : n_.slot(rows_bodies[p], cols_bodies[q]);
-    return at;
-  };
-  own_.resize(nr);
-  tied_.resize(nr);
-  for (int k = 0; k < nr; ++k) {
-    own_[k] = slots(body_[k], body_[k]);
-    if (normal_[k] >= 0) tied_[k] = slots(body_[k], body_[normal_[k]]);
-  }
+        own_[k][2 * p + q] = body_[k][p] < 0 || body_[k][q] < 0 ? PatternFactor::Slot{-1, 0}
+                                                                : n_.slot(body_[k][p], body_[k][q]);
 }
 
 void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies) {
@@ -120,7 +120,7 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
     // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n (the normal's slots on the same bodies).
     if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k], own_[k]);
     if (tie_weight_[k] != 0) {
-      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]], tied_[k]);
+      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]], own_[k]);
       tied = true;
     }
   }

@@ -69,10 +69,11 @@ class BodySpaceSystem {
   std::vector<std::array<int, 2>> body_;  // local body per slot of each local row, -1 = none
   std::vector<int> normal_;               // local row of a row's normal, -1 if none
   std::vector<Mat6> mass_;                // per local body
-  // Where N's blocks lie, looked up once per assign(): each body's diagonal block; per row, the
-  // blocks (slot p, slot q) of J_p^T J_q (index 2p + q) and of its tie J_p^T J_n,q (start -1: none).
+  // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per row, the
+  // blocks (slot p, slot q) of J_p^T J_q (index 2p + q; start -1: none), which its tie's
+  // J_p^T J_n,q shares.
   std::vector<PatternFactor::Slot> diagonal_;
-  std::vector<std::array<PatternFactor::Slot, 4>> own_, tied_;
+  std::vector<std::array<PatternFactor::Slot, 4>> own_;
   // The piece of the last factor() on the rows; 1 / s_j on Free rows.
   std::vector<RowEquation> equation_;
   std::vector<double> tie_, shift_, inv_s_, tie_weight_;
