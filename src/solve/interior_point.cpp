@@ -94,7 +94,11 @@ void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) 
     if (has_.hi[j]) zhi_[j] = std::max(-w_[j], 0.0) + 0.1 * scale;
   }
   piece_.equation.resize(n);
-  for (int j = 0; j < n; ++j) piece_.equation[j] = has_.closed[j] ? RowEquation::Fixed : RowEquation::Free;
+  indicated_.resize(n);
+  for (int j = 0; j < n; ++j) {
+    piece_.equation[j] = has_.closed[j] ? RowEquation::Fixed : RowEquation::Free;
+    indicated_[j] = has_.closed[j] ? RowState::Lower : RowState::Free;
+  }
   piece_.tie.setZero(n);
   piece_.shift.setZero(n);
   gap0_ = 0;
@@ -134,6 +138,11 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   chunks.each(n, [&](int j) { r_[j] = has_.closed[j] ? 0.0 : -w_[j]; });
   system.solve(r_, d_);
   slack_steps(s, has_, d_, dslo_, dshi_, chunks);
+  chunks.each(n, [&](int j) {
+    if (has_.closed[j]) return;
+    const double lo = has_.lo[j] ? dslo_[j] / slo_[j] : 0.0, hi = has_.hi[j] ? dshi_[j] / shi_[j] : 0.0;
+    indicated_[j] = lo < -0.5 && lo <= hi ? RowState::Lower : hi < -0.5 ? RowState::Upper : RowState::Free;
+  });
   dzlo_.resize(n);
   dzhi_.resize(n);
   chunks.each(n, [&](int j) {

@@ -34,6 +34,14 @@ class InteriorPoint {
   // Its loops over rows and bodies run in `chunks`.
   double step(LinearSystem& system, IslandChunks& chunks);
   const Eigen::VectorXd& lambda() const { return lambda_; }
+  // The state the last predictor indicates (Tapia's indicators: El-Bakry, Tapia & Zhang, SIAM
+  // Review 36, 1994): a bound is active if the predictor would cut its slack by more than half,
+  // that is when the slack falls faster than its multiplier (ds/s < dz/z, as z ds + s dz = -z s);
+  // a friction row active at a bound is at -+mu lambda_n. Every row Free before the first step
+  // (closed rows Lower). A better guess of the answer's state than the natural map at the iterate:
+  // a row whose slack and multiplier are both still small looks free there, while the predictor,
+  // which sees how the island's other rows respond, already takes it to its bound.
+  const std::vector<RowState>& indicated() const { return indicated_; }
 
   // Per row: no interior (held at its bound), a lower bound, an upper bound (friction: both).
   struct Sides {
@@ -45,6 +53,7 @@ class InteriorPoint {
   double gap0_ = 0;
   Sides has_;
   Piece piece_;
+  std::vector<RowState> indicated_;
   Eigen::VectorXd lambda_, zlo_, zhi_, slo_, shi_, r_, d_, w_, du_, dzlo_, dzhi_, dslo_, dshi_, trial_;
 };
 

@@ -44,62 +44,67 @@ void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda, IslandC
   });
 }
 
-// The Newton state at (lambda, w): each row's equation and right-hand side, and its RowState (the
-// warm start the step leaves for the next one). With `warm`, rows free there stay free and the
-// friction rows keep their tie; clamped rows follow the natural map (a new contact, stored at 0,
-// starts free when it approaches). Normals and joints come first: a friction row ties only to a
-// free normal, and its box is closed (lambda_t = 0) when the normal is at 0.
-void choose_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
-                  const std::vector<RowState>* warm, NewtonWorkspace& ws) {
+// The natural map's state at (lambda, w): each row Free, or at its Lower or Upper bound (a
+// friction row: at -+mu lambda_n). With `warm`, rows free there stay free and friction rows keep
+// their state while their normal pushes; clamped rows follow the natural map (a new contact, stored
+// at 0, starts free when it approaches).
+void natural_state(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
+                   const std::vector<RowState>* warm, std::vector<RowState>& state, IslandChunks& chunks) {
+  state.resize(s.rows);
+  chunks.each(s.rows, [&](int j) {
+    const int normal = s.normal_of[j];
+    const double x = lambda[j] - w[j] / s.diag[j];
+    if (normal < 0) {
+      state[j] = warm && (*warm)[j] == RowState::Free ? RowState::Free
+                 : x <= s.lo[j]                      ? RowState::Lower
+                 : x >= s.hi[j]                      ? RowState::Upper
+                                                     : RowState::Free;
+    } else if (warm && lambda[normal] > 0) {
+      state[j] = (*warm)[j];
+    } else {
+      const double bound = s.mu[j] * std::max(0.0, lambda[normal]);
+      state[j] = x >= bound && x > 0 ? RowState::Upper : x <= -bound && x < 0 ? RowState::Lower : RowState::Free;
+    }
+  });
+}
+
+// The piece of ws.piece_state at lambda: each row's equation and right-hand side. Normals and
+// joints come first: a friction row ties only to a free normal, and its box is closed
+// (lambda_t = 0; its state Free, the physical first guess if the box opens again) when the normal
+// is not free or lambda_n < 0.
+void set_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, NewtonWorkspace& ws) {
   Piece& piece = ws.piece;
   std::vector<RowState>& state = ws.piece_state;
   const int n = s.rows;
   piece.equation.resize(n);
   piece.tie.setZero(n);
   piece.shift.setZero(n);
-  state.resize(n);
   ws.g.resize(n);
-  IslandChunks& chunks = ws.chunks;
   const auto set_free = [&](int j) {  // w_j = 0
     piece.equation[j] = RowEquation::Free;
     ws.g[j] = -s.q[j];
   };
-  chunks.each(n, [&](int j) {
+  ws.chunks.each(n, [&](int j) {
     if (s.normal_of[j] >= 0) return;
-    const double x = lambda[j] - w[j] / s.diag[j];
-    RowState st = x <= s.lo[j] ? RowState::Lower : x >= s.hi[j] ? RowState::Upper : RowState::Free;
-    if (warm && (*warm)[j] == RowState::Free) st = RowState::Free;
-    state[j] = st;
-    if (st == RowState::Free) {
+    if (state[j] == RowState::Free) {
       set_free(j);
     } else {
       piece.equation[j] = RowEquation::Fixed;
-      ws.g[j] = st == RowState::Lower ? s.lo[j] : s.hi[j];
+      ws.g[j] = state[j] == RowState::Lower ? s.lo[j] : s.hi[j];
     }
   });
-  chunks.each(n, [&](int j) {
+  ws.chunks.each(n, [&](int j) {
     const int normal = s.normal_of[j];
     if (normal < 0) return;
     ws.g[j] = 0;
     if (piece.equation[normal] != RowEquation::Free || lambda[normal] < 0) {
       piece.equation[j] = RowEquation::Fixed;
-      state[j] = RowState::Free;  // sticking: the physical first guess if the box opens again
-      return;
-    }
-    RowState st;
-    if (warm && lambda[normal] > 0) {
-      st = (*warm)[j];
-    } else {
-      const double bound = s.mu[j] * std::max(0.0, lambda[normal]);
-      const double x = lambda[j] - w[j] / s.diag[j];
-      st = x >= bound && x > 0 ? RowState::Upper : x <= -bound && x < 0 ? RowState::Lower : RowState::Free;
-    }
-    state[j] = st;
-    if (st == RowState::Free) {
+      state[j] = RowState::Free;
+    } else if (state[j] == RowState::Free) {
       set_free(j);
     } else {
       piece.equation[j] = RowEquation::Tied;
-      piece.tie[j] = st == RowState::Upper ? s.mu[j] : -s.mu[j];
+      piece.tie[j] = state[j] == RowState::Upper ? s.mu[j] : -s.mu[j];
     }
   });
 }
@@ -186,17 +191,17 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     }
     return ws.x.allFinite();
   };
-  // Full Newton steps from ws.base (velocities ws.base_w): each takes the state the natural map
-  // gives at the last step's solution, unprojected, so that rows it pushed past a bound are fixed
-  // there and rows whose bound pushes them inward are freed, many at a time (primal-dual active
-  // set). The first from the warm start takes its states (at rest: the answer). They stop on a
-  // repeated state or after kPatience steps without a better answer.
-  const auto newton_steps = [&](const std::vector<RowState>* warm) {
+  // Full Newton steps from ws.base (velocities ws.base_w), the first in the state ws.piece_state,
+  // each next one in the state the natural map gives at the last step's solution, unprojected, so
+  // that rows it pushed past a bound are fixed there and rows whose bound pushes them inward are
+  // freed, many at a time (primal-dual active set). They stop on a repeated state or after
+  // kPatience steps without a better answer.
+  const auto newton_steps = [&]() {
     int idle = 0;
     ws.last_state.clear();
     while (!settled() && idle < kPatience) {
-      choose_piece(s, ws.base, ws.base_w, warm, ws);
-      warm = nullptr;
+      if (!ws.last_state.empty()) natural_state(s, ws.base, ws.base_w, nullptr, ws.piece_state, ws.chunks);
+      set_piece(s, ws.base, ws);
       if (ws.piece_state == ws.last_state) return;
       ws.last_state = ws.piece_state;
       if (!solve_piece()) return;
@@ -215,9 +220,12 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
   ws.trial = ws.start;
   consider(ws.trial);
-  newton_steps(&state);
-  // The interior-point phase, from a cold start: after each of its steps, the state its iterate
-  // gives; when that state is the one of the step before (and not tried yet), Newton steps from it.
+  // The first step from the warm start takes its states (at rest: the answer).
+  natural_state(s, ws.base, ws.base_w, &state, ws.piece_state, ws.chunks);
+  newton_steps();
+  // The interior-point phase, from a cold start: after each of its steps, the state its predictor
+  // indicates (interior_point.hpp); when that state is the one of the step before (and not tried
+  // yet), Newton steps from its iterate, the first in that state.
   if (!settled()) {
     ws.ipm.start(s, Eigen::VectorXd::Zero(s.rows));
     ws.ipm_state.clear();
@@ -231,21 +239,22 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       ws.trial = ws.ipm.lambda();
       consider(ws.trial);
       if (settled()) break;
-      velocities(s, ws.trial, ws.du, ws.trial_w, ws.chunks);
-      choose_piece(s, ws.trial, ws.trial_w, nullptr, ws);
-      if ((ws.piece_state == ws.ipm_state && ws.piece_state != ws.tried_state) || !stepped) {
-        ws.tried_state = ws.piece_state;
+      const std::vector<RowState>& indicated = ws.ipm.indicated();
+      if ((indicated == ws.ipm_state && indicated != ws.tried_state) || !stepped) {
+        ws.tried_state = indicated;
         ws.base = ws.trial;
-        ws.base_w = ws.trial_w;
-        newton_steps(nullptr);
+        velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
+        ws.piece_state = indicated;
+        newton_steps();
         if (!stepped) break;
       }
-      ws.ipm_state = ws.piece_state;
+      ws.ipm_state = indicated;
     }
   }
   lambda = ws.best;
   velocities(s, lambda, ws.du, ws.w, ws.chunks);
-  choose_piece(s, lambda, ws.w, nullptr, ws);
+  natural_state(s, lambda, ws.w, nullptr, ws.piece_state, ws.chunks);
+  set_piece(s, lambda, ws);
   state = ws.piece_state;
   result.settled = result.residual <= kSettledResidual;
   return result;
