@@ -58,7 +58,8 @@ struct NewtonWorkspace {
   InteriorPoint ipm;
   // The loops over the island's rows and bodies (one chunk, serial, unless the caller sets more).
   IslandChunks chunks;
-  // The state of the last Newton step; of the interior point's last iterate; the last one tried from it.
+  // The state of the last Newton step; the one the interior point's last predictor indicated; the
+  // last one Newton steps were tried from.
   std::vector<RowState> last_state, ipm_state, tried_state;
   // The island's warm start in, answer out (solve_island_newton).
   Eigen::VectorXd island_lambda;
