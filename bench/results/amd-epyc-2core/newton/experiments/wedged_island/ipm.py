@@ -2,7 +2,9 @@ import numpy as np, sys
 sys.path.insert(0, __import__('os').path.dirname(__file__))
 from blcp import *
 from pdas import pdas, project
-def ipm(A,q,lo,hi,nof,mu,sigma_c=0.1,iters=60,verbose=False,mehrotra=False):
+# symm: 0 the coupled matrix always; 1 the symmetric (associated) one always; in (0, 1) the symmetric
+# one on the step after one shorter than symm (../continuation/ipm_sym.py).
+def ipm(A,q,lo,hi,nof,mu,sigma_c=0.1,iters=60,verbose=False,mehrotra=False,symm=0.0):
     n=len(q); sc=max(np.max(np.abs(q)),1e-12); d=np.diag(A)
     fr=nof>=0
     haslo=fr|np.isfinite(lo); hashi=fr|np.isfinite(hi)
@@ -19,6 +21,7 @@ def ipm(A,q,lo,hi,nof,mu,sigma_c=0.1,iters=60,verbose=False,mehrotra=False):
     w=A@lam+q
     zlo=np.where(haslo,np.maximum(w,0)+0.1*sc,0.); zhi=np.where(hashi,np.maximum(-w,0)+0.1*sc,0.)
     best=1e99
+    use_sym=[symm>=1]
     for it in range(iters):
         slo=np.where(haslo,Llo@lam-clo,1.); shi=np.where(hashi,Lhi@lam+chi,1.)
         w=A@lam+q
@@ -33,6 +36,7 @@ def ipm(A,q,lo,hi,nof,mu,sigma_c=0.1,iters=60,verbose=False,mehrotra=False):
             # -dzlo = -(rc_lo - zlo*Llo dl)/slo = -rc_lo/slo + Dlo*Llo dl
             # +dzhi = (rc_hi - zhi*Lhi dl)/shi = rc_hi/shi - Dhi*Lhi dl
             M=A + Dlo[:,None]*Llo - Dhi[:,None]*Lhi
+            if use_sym[0]: M=A + Llo.T@(Dlo[:,None]*Llo) + Lhi.T@(Dhi[:,None]*Lhi)
             rhs=-(w-zlo+zhi) + np.where(haslo,rc_lo/slo,0) - np.where(hashi,rc_hi/shi,0)
             dl=np.linalg.solve(M,rhs)
             dzlo=np.where(haslo,(rc_lo-zlo*(Llo@dl))/slo,0); dzhi=np.where(hashi,(rc_hi-zhi*(Lhi@dl))/shi,0)
@@ -53,6 +57,7 @@ def ipm(A,q,lo,hi,nof,mu,sigma_c=0.1,iters=60,verbose=False,mehrotra=False):
         dslo=Llo@dl; dshi=Lhi@dl
         a=min(1,0.99*min(maxstep(slo,dslo,haslo),maxstep(shi,dshi,hashi),maxstep(zlo,dzlo,haslo),maxstep(zhi,dzhi,hashi)))
         lam=lam+a*dl; zlo=zlo+a*dzlo; zhi=zhi+a*dzhi
+        if symm<1: use_sym[0]= a<symm
         r=resid(A,q,project(lam,lo,hi,nof,mu),lo,hi,nof,mu)
         best=min(best,r)
         if verbose: print(it,'alpha %.2e gap %.2e res %.2e'%(a,gap,r), np.round(lam[~fr],1))
