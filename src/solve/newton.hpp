@@ -17,8 +17,8 @@
 //      When two consecutive predictors indicate the same state (Tapia's indicators, not the
 //      natural map at the iterate: interior_point.hpp), and that state was not tried, step 1's
 //      Newton steps run from the iterate, the first in that state; they end the solve exactly. An
-//      iterate that settles by itself is finished by one Newton step in its state (exact to
-//      round-off rather than to the criterion).
+//      iterate that settles by itself is finished by one Newton step in the state its predictor
+//      indicates (exact to round-off rather than to the criterion).
 //
 // Why not one globalised Newton method (a line search on 1/2 ||D F||^2, a proximal safeguard):
 // measured on the box piles, its Newton directions stop being descent directions a step of 1e-3
