@@ -1,6 +1,9 @@
 #!/bin/bash
-# run.sh SCENE_ARGS_TAG SEEDS ; VARIANTS="tag:ENV ..."
-BIN=${BIN:-/tmp/pr/rbpart}; OUT=/tmp/pr; SC=$1; SEEDS="$2"
+# Whole runs of the path experiment, one solver thread, into /tmp/pr/TAG_SCENE_SEED.csv.
+# Usage: VARIANTS="TAG:ENV,ENV... ..." [BINDEF=RBPART] [EXTRA_ARGS="--max-factorizations 100"] runs.sh SCENE "SEEDS"
+#   SCENE: rock, bp60 (box pile h = 1/60), bp100 (h = 0.01, 500 steps), lrp (Large Rock Pile).
+#   A variant may name its own binary as TAG:ENV@RBPART. sum.py and ../ratio_test_flips/stats.py read /tmp/pr.
+OUT=/tmp/pr; SC=$1; SEEDS="$2"; mkdir -p $OUT
 for s in $SEEDS; do
   for v in $VARIANTS; do
     BIN=${v#*@}; [ "$BIN" = "$v" ] && BIN=${BINDEF:-/tmp/pr/rbpart}; v=${v%@*}
