@@ -1,3 +1,5 @@
+# Per scene and variant, over the runs of runs.sh in /tmp/pr: median unsettled steps, per-seed counts,
+# runs above 1 J at the end, median solve (s), median and max factorisations per step. Usage: sum.py
 import csv, glob, sys, statistics, collections
 res=collections.defaultdict(list)
 for f in sorted(glob.glob('/tmp/pr/*.csv')):
