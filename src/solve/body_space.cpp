@@ -48,12 +48,18 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   assign_pattern(cliques, dense_max_bodies);
   diagonal_.resize(nb);
   for (int b = 0; b < nb; ++b) diagonal_[b] = n_.slot(b, b);
-  own_.resize(nr);
-  for (int k = 0; k < nr; ++k)
+  run_start_.clear();
+  own_.clear();
+  for (int k = 0; k < nr; ++k) {
+    if (k > 0 && body_[k] == body_[k - 1] && k - run_start_.back() < kMaxRun) continue;
+    run_start_.push_back(k);
+    std::array<PatternFactor::Slot, 4>& own = own_.emplace_back();
     for (int p = 0; p < 2; ++p)
       for (int q = 0; q < 2; ++q)
-        own_[k][2 * p + q] = body_[k][p] < 0 || body_[k][q] < 0 ? PatternFactor::Slot{-1, 0}
-                                                                : n_.slot(body_[k][p], body_[k][q]);
+        own[2 * p + q] = body_[k][p] < 0 || body_[k][q] < 0 ? PatternFactor::Slot{-1, 0}
+                                                            : n_.slot(body_[k][p], body_[k][q]);
+  }
+  run_start_.push_back(nr);
 }
 
 void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies) {
@@ -107,22 +113,39 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
                      : equation_[k] == RowEquation::Tied ? tie_[k]
                      : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k]
                                                          : 0.0;
-  const auto add = [&](int k, int m, double scale, const std::array<PatternFactor::Slot, 4>& at) {
-    const int j = rows_[k], n = rows_[m];
-    for (int p = 0; p < 2; ++p) {
-      if (body_[k][p] < 0) continue;
-      const Vec6 jp = scale * s.jac[j][p];
-      for (int q = 0; q < 2; ++q)
-        if (at[2 * p + q].start >= 0) n_.block(at[2 * p + q]).noalias() += jp * s.jac[n][q].transpose();
+  // A run's rows k add J_k,p^T (w_k J_k,q + c_k J_n(k),q) to block (p, q): w_k = 1 / s_k on Free
+  // rows, c_k = tie_weight_k / s_n on ties (the normal acts on the same bodies). Gathered as
+  // columns, each block's terms are summed in one fixed-size accumulator and added to N once
+  // (Eigen's product of these small dynamic shapes would take its general GEMM path).
+  using Columns = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxRun>;
+  std::array<Columns, 2> jp, bq;
+  for (std::size_t i = 0; i + 1 < run_start_.size(); ++i) {
+    const int begin = run_start_[i], end = run_start_[i + 1];
+    const int slots = body_[begin][1] >= 0 ? 2 : 1;
+    for (int p = 0; p < slots; ++p) {
+      jp[p].resize(6, end - begin);
+      bq[p].resize(6, end - begin);
     }
-  };
-  for (int k = 0; k < nr; ++k) {
-    // Free: + J_j^T J_j / s_j; a tie: + (tie_weight_k / s_n) J_j^T J_n (the normal's slots on the same bodies).
-    if (equation_[k] == RowEquation::Free) add(k, k, inv_s_[k], own_[k]);
-    if (tie_weight_[k] != 0) {
-      add(k, normal_[k], tie_weight_[k] * inv_s_[normal_[k]], own_[k]);
-      tied = true;
+    int m = 0;
+    for (int k = begin; k < end; ++k) {
+      const double w = equation_[k] == RowEquation::Free ? inv_s_[k] : 0.0;
+      const double c = tie_weight_[k] != 0 ? tie_weight_[k] * inv_s_[normal_[k]] : 0.0;
+      tied = tied || tie_weight_[k] != 0;
+      if (w == 0 && c == 0) continue;
+      const int j = rows_[k];
+      for (int p = 0; p < slots; ++p) {
+        jp[p].col(m) = s.jac[j][p];
+        bq[p].col(m) = w * s.jac[j][p];
+        if (c != 0) bq[p].col(m) += c * s.jac[rows_[normal_[k]]][p];
+      }
+      ++m;
     }
+    for (int p = 0; p < slots && m > 0; ++p)
+      for (int q = 0; q < slots; ++q) {
+        Mat6 sum = jp[p].col(0) * bq[q].col(0).transpose();
+        for (int c = 1; c < m; ++c) sum.noalias() += jp[p].col(c) * bq[q].col(c).transpose();
+        n_.block(own_[i][2 * p + q]) += sum;
+      }
   }
   return tied;
 }

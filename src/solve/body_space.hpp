@@ -59,6 +59,7 @@ class BodySpaceSystem {
   void recover(const Eigen::VectorXd& g, const Eigen::VectorXd& u, Eigen::VectorXd& x) const;
 
  private:
+  static constexpr int kMaxRun = 16;  // rows in one run (see run_start_), at most
   // N's pattern from the rows' bodies and `cliques`.
   void assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies);
   // J_j u for local row k.
@@ -69,10 +70,13 @@ class BodySpaceSystem {
   std::vector<std::array<int, 2>> body_;  // local body per slot of each local row, -1 = none
   std::vector<int> normal_;               // local row of a row's normal, -1 if none
   std::vector<Mat6> mass_;                // per local body
-  // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per row, the
-  // blocks (slot p, slot q) of J_p^T J_q (index 2p + q; start -1: none), which its tie's
-  // J_p^T J_n,q shares.
+  // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per run of
+  // consecutive rows on the same bodies (a contact's three rows, a manifold's contacts), starting
+  // at local row run_start_[i], the blocks (slot p, slot q) of their J_p^T J_q (index 2p + q;
+  // start -1: none), which their ties' J_p^T J_n,q share. A run's terms are summed before they
+  // are added to N.
   std::vector<PatternFactor::Slot> diagonal_;
+  std::vector<int> run_start_;
   std::vector<std::array<PatternFactor::Slot, 4>> own_;
   // The piece of the last factor() on the rows; 1 / s_j on Free rows.
   std::vector<RowEquation> equation_;

@@ -46,11 +46,18 @@ void slack_steps(const IslandSystem& s, const InteriorPoint::Sides& has, const E
   });
 }
 
-// The largest alpha in (0, 1] with x + alpha dx >= 0 on the bounds that exist.
-double step_to_boundary(const std::vector<char>& has, const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
+// The largest alpha in (0, 1] that keeps every slack and multiplier that exists non-negative
+// (s + alpha ds >= 0, z + alpha dz >= 0), in one pass over the rows.
+double step_to_boundary(const InteriorPoint::Sides& has, const Eigen::VectorXd& slo, const Eigen::VectorXd& dslo,
+                        const Eigen::VectorXd& shi, const Eigen::VectorXd& dshi, const Eigen::VectorXd& zlo,
+                        const Eigen::VectorXd& dzlo, const Eigen::VectorXd& zhi, const Eigen::VectorXd& dzhi,
                         IslandChunks& chunks) {
-  const double alpha = chunks.min(static_cast<int>(has.size()), [&](int j) {
-    return has[j] && dx[j] < 0 ? -x[j] / dx[j] : 1.0;
+  const auto ratio = [](double x, double dx) { return dx < 0 ? -x / dx : 1.0; };
+  const double alpha = chunks.min(static_cast<int>(has.lo.size()), [&](int j) {
+    double a = 1.0;
+    if (has.lo[j]) a = std::min({a, ratio(slo[j], dslo[j]), ratio(zlo[j], dzlo[j])});
+    if (has.hi[j]) a = std::min({a, ratio(shi[j], dshi[j]), ratio(zhi[j], dzhi[j])});
+    return a;
   });
   return std::min(1.0, alpha);
 }
@@ -149,9 +156,7 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
     dzlo_[j] = has_.lo[j] ? -zlo_[j] - zlo_[j] * dslo_[j] / slo_[j] : 0.0;
     dzhi_[j] = has_.hi[j] ? -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j] : 0.0;
   });
-  const double affine =
-      std::min({step_to_boundary(has_.lo, slo_, dslo_, chunks), step_to_boundary(has_.hi, shi_, dshi_, chunks),
-                step_to_boundary(has_.lo, zlo_, dzlo_, chunks), step_to_boundary(has_.hi, zhi_, dzhi_, chunks)});
+  const double affine = step_to_boundary(has_, slo_, dslo_, shi_, dshi_, zlo_, dzlo_, zhi_, dzhi_, chunks);
   double gap_affine = 0;
   for (int j = 0; j < n; ++j) {
     if (has_.lo[j]) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
@@ -181,11 +186,8 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   });
   // One step length for impulses and multipliers (they are coupled through w), 99 % of the way to
   // the boundary.
-  const double alpha = std::min(
-      1.0, kToBoundary * std::min({step_to_boundary(has_.lo, slo_, dslo_, chunks),
-                                   step_to_boundary(has_.hi, shi_, dshi_, chunks),
-                                   step_to_boundary(has_.lo, zlo_, dzlo_, chunks),
-                                   step_to_boundary(has_.hi, zhi_, dzhi_, chunks)}));
+  const double alpha =
+      std::min(1.0, kToBoundary * step_to_boundary(has_, slo_, dslo_, shi_, dshi_, zlo_, dzlo_, zhi_, dzhi_, chunks));
   trial_ = lambda_ + alpha * d_;
   if (!trial_.allFinite() || !(alpha > 0)) return 0;
   lambda_ = trial_;
