@@ -22,11 +22,10 @@ std::string duration(double seconds) {
 }  // namespace
 
 Progress::Progress(std::string label, long total)
-    : label_(std::move(label)), total_(total > 0 ? total : 1), out_(stderr),
-      enabled_(isatty(fileno(stderr)) != 0) {}
+    : Progress(std::move(label), total, stderr, isatty(fileno(stderr)) ? Style::Redraw : Style::Lines) {}
 
-Progress::Progress(std::string label, long total, std::FILE* out)
-    : label_(std::move(label)), total_(total > 0 ? total : 1), out_(out), enabled_(true) {}
+Progress::Progress(std::string label, long total, std::FILE* out, Style style, double line_every_s)
+    : label_(std::move(label)), total_(total > 0 ? total : 1), out_(out), style_(style), line_every_s_(line_every_s) {}
 
 Progress::~Progress() { finish(); }
 
@@ -43,8 +42,14 @@ std::string Progress::line(const std::string& label, long done, long total, doub
 }
 
 void Progress::update(long done) {
-  if (!enabled_) return;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (style_ == Style::Lines) {
+    if (elapsed - last_line_s_ < line_every_s_) return;
+    last_line_s_ = elapsed;
+    std::fprintf(out_, "%s\n", line(label_, done, total_, elapsed).c_str());
+    std::fflush(out_);
+    return;
+  }
   const int permille = static_cast<int>(1000 * done / total_);
   const long second = static_cast<long>(elapsed);
   if (permille == last_permille_ && second == last_second_) return;

@@ -1,6 +1,8 @@
 #pragma once
-// A progress bar on stderr, drawn only when stderr is a terminal (logs stay clean): the fraction
-// done, the time elapsed and an estimate of the time left.
+// Progress of long work on stderr: the fraction done, the time elapsed and an estimate of the time
+// left. On a terminal the bar is redrawn in place; in a log (stderr redirected, e.g. a run under
+// nohup or CI) it is written as a line of its own once a minute, so that a run of hours says how
+// far it is without filling the log.
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -9,9 +11,16 @@ namespace rbpart {
 
 class Progress {
  public:
+  // Redraw: one line rewritten in place (a terminal). Lines: a full line at most every
+  // `line_every_s` seconds, and none before the first interval has passed (a log).
+  enum class Style { Redraw, Lines };
+  static constexpr double kLogEverySeconds = 60;
+
+  // On stderr: Redraw if it is a terminal, else Lines.
   Progress(std::string label, long total);
-  // Drawn on `out` whether or not it is a terminal (tests).
-  Progress(std::string label, long total, std::FILE* out);
+  // On `out` in the given style whether or not it is a terminal (tests).
+  Progress(std::string label, long total, std::FILE* out, Style style = Style::Redraw,
+           double line_every_s = kLogEverySeconds);
   ~Progress();
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
@@ -28,10 +37,12 @@ class Progress {
   std::string label_;
   long total_;
   std::FILE* out_;
-  bool enabled_;
+  Style style_;
+  double line_every_s_;
   bool drawn_ = false;
   int last_permille_ = -1;
   long last_second_ = -1;
+  double last_line_s_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 

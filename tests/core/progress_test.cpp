@@ -43,6 +43,37 @@ TEST(Progress, FinishEndsTheLineOnceSoTheSummaryStartsOnItsOwn) {
   EXPECT_EQ(text.find('\n'), text.size() - 9);
 }
 
+TEST(Progress, InALogEveryLineIsWholeAndNoneComesBeforeTheInterval) {
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  {
+    Progress progress("run", 4, out, Progress::Style::Lines, 0.0);
+    progress.update(1);
+    progress.update(4);
+    progress.finish();
+  }
+  std::string text = contents(out);
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+  EXPECT_EQ(text.find("\033"), std::string::npos);
+  const std::size_t first_end = text.find('\n');
+  ASSERT_NE(first_end, std::string::npos);
+  EXPECT_NE(text.substr(0, first_end).find("(1/4)"), std::string::npos);
+  EXPECT_NE(text.substr(first_end + 1).find("(4/4)"), std::string::npos);
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_EQ(text.find('\n', first_end + 1), text.size() - 1);  // two lines, finish() adds none
+  std::fclose(out);
+
+  out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  {
+    Progress progress("run", 4, out, Progress::Style::Lines, 3600.0);
+    progress.update(1);
+    progress.update(4);
+  }
+  EXPECT_EQ(contents(out), "");
+  std::fclose(out);
+}
+
 TEST(Progress, NothingDrawnNothingEnded) {
   std::FILE* out = std::tmpfile();
   ASSERT_NE(out, nullptr);
