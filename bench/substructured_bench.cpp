@@ -7,7 +7,7 @@
 // a World solves once the pile has landed. Every benchmark iteration solves every recorded problem
 // once, from its warm start, with no analyses carried over from another solve (as the study replays).
 //
-// Arguments: threads, and n_max for the substructured solver (MinDP, or MIX refined by FM).
+// Arguments: threads, and n_max for the substructured solver (MinDP, MIX refined by FM, or METIS).
 // Counters, per solve: ms (wall), factorisations, unsettled islands, the largest residual; for the
 // substructured solver also parts, interface rows and bodies, part factorisations, and the work and
 // critical path (ms). Partitioning is done in the set-up, untimed (it is the partitioners' cost,
@@ -126,16 +126,28 @@ void substructured_args(benchmark::internal::Benchmark* b) {
     for (int nmax : {8, 16, 32, 64}) b->Args({threads, nmax});
 }
 
+// METIS as the min-cut reference, up to parts as large as a pile's main island's half (two parts
+// for two threads).
+void metis_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"threads", "nmax"})->Unit(benchmark::kMillisecond)->Iterations(2);
+  for (int threads : {1, 2})
+    for (int nmax : {32, 128, 300}) b->Args({threads, nmax});
+}
+
 BENCHMARK_CAPTURE(BM_Direct, rock_pile, kRockPile)->Apply(direct_args);
 BENCHMARK_CAPTURE(BM_Substructured, rock_pile_mindp, kRockPile, PartitionerKind::MinDp, RefinerKind::None)
     ->Apply(substructured_args);
 BENCHMARK_CAPTURE(BM_Substructured, rock_pile_mix_fm, kRockPile, PartitionerKind::Mix, RefinerKind::Fm)
     ->Apply(substructured_args);
+BENCHMARK_CAPTURE(BM_Substructured, rock_pile_metis, kRockPile, PartitionerKind::Metis, RefinerKind::None)
+    ->Apply(metis_args);
 BENCHMARK_CAPTURE(BM_Direct, large_rock_pile, kLargeRockPile)->Apply(direct_args);
 BENCHMARK_CAPTURE(BM_Substructured, large_rock_pile_mindp, kLargeRockPile, PartitionerKind::MinDp, RefinerKind::None)
     ->Apply(substructured_args);
 BENCHMARK_CAPTURE(BM_Substructured, large_rock_pile_mix_fm, kLargeRockPile, PartitionerKind::Mix, RefinerKind::Fm)
     ->Apply(substructured_args);
+BENCHMARK_CAPTURE(BM_Substructured, large_rock_pile_metis, kLargeRockPile, PartitionerKind::Metis, RefinerKind::None)
+    ->Apply(metis_args);
 
 }  // namespace
 }  // namespace rbpart

@@ -90,9 +90,67 @@ bool PatternFactor::factor(bool symmetric) {
     if (cholmod_.factorize()) return true;
     lu_ = true;
   }
-  if (!klu_ready_) klu_.analyze(view);
+  if (!klu_ready_ || klu_interior_ != -1) klu_.analyze(view);
   klu_ready_ = true;
+  klu_interior_ = -1;
   return klu_.factorize();
+}
+
+bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
+  lu_ = true;
+  interior_ = interior;
+  const int k = n_ - interior;
+  schur.resize(k, k);
+  if (dense_) {
+    const auto a_ii = dense_values_.topLeftCorner(interior, interior);
+    const auto a_ik = dense_values_.topRightCorner(interior, k);
+    const auto a_ki = dense_values_.bottomLeftCorner(k, interior);
+    schur = dense_values_.bottomRightCorner(k, k);
+    if (interior == 0) return true;
+    plu_.compute(a_ii);
+    const double pivot = plu_.matrixLU().diagonal().cwiseAbs().minCoeff();
+    if (!(std::isfinite(pivot) && pivot > 0)) return false;
+    u_ik_ = plu_.permutationP() * a_ik;
+    plu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(u_ik_);
+    l_ki_ = a_ki;
+    plu_.matrixLU().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(l_ki_);
+    schur.noalias() -= l_ki_ * u_ik_;
+    return schur.allFinite();
+  }
+  const CscView view{n_, colptr_.data(), rowind_.data(), values_.data()};
+  if (!klu_ready_ || klu_interior_ != interior) klu_.analyze(view, interior);
+  klu_ready_ = true;
+  klu_interior_ = interior;
+  if (!klu_.factorize()) return false;
+  return klu_.trailing_schur(schur.data()) && schur.allFinite();
+}
+
+void PatternFactor::forward_interior(double* b) {
+  if (!dense_) {
+    klu_.forward_interior(b);
+    return;
+  }
+  const int k = n_ - interior_;
+  Eigen::Map<Eigen::VectorXd> b_i(b, interior_), b_k(b + interior_, k);
+  if (interior_ == 0) return;
+  b_i = plu_.permutationP() * b_i;
+  plu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(b_i);
+  b_k.noalias() -= l_ki_ * b_i;
+}
+
+void PatternFactor::back_interior(double* b, const double* u_k) {
+  if (!dense_) {
+    klu_.back_interior(b, u_k);
+    return;
+  }
+  const int k = n_ - interior_;
+  Eigen::Map<Eigen::VectorXd> b_i(b, interior_), b_k(b + interior_, k);
+  const Eigen::Map<const Eigen::VectorXd> u(u_k, k);
+  if (interior_ > 0) {
+    b_i.noalias() -= u_ik_ * u;
+    plu_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(b_i);
+  }
+  b_k = u;
 }
 
 void PatternFactor::solve(double* x, int columns) {

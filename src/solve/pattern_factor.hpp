@@ -54,6 +54,17 @@ class PatternFactor {
 
   // Factors the current values; false if numerically singular.
   bool factor(bool symmetric);
+  // Factors the current values A = [A_II A_IK; A_KI A_KK] (I its first `interior` unknowns, K the
+  // others) by LU with I's pivots taken among I's rows and K eliminated last, and sets `schur` to
+  // K's Schur complement A_KK - A_KI A_II^-1 A_IK: the LU's trailing block. Sparse, by KLU in a
+  // given order (KluFactor::trailing_schur); dense, by Eigen's LU of A_II. False if numerically
+  // singular. Then forward_interior() and back_interior() solve with A_II, and solve() is not used.
+  bool factor_schur(int interior, Eigen::MatrixXd& schur);
+  // After factor_schur(): b (size() entries) <- [y_I; b_K - A_KI A_II^-1 b_I] (y_I: the forward
+  // substitution's, for back_interior()).
+  void forward_interior(double* b);
+  // After forward_interior(b): b <- [A_II^-1 (b_I - A_IK u_K); u_K] for the given u_K.
+  void back_interior(double* b, const double* u_k);
   // x <- A^-1 x for `columns` vectors of size() entries stored one after another.
   void solve(double* x, int columns = 1);
 
@@ -65,6 +76,10 @@ class PatternFactor {
   std::vector<int> adjacent_start_, adjacent_;
   std::vector<double> values_;
   bool cholmod_ready_ = false, klu_ready_ = false;
+  int klu_interior_ = -1;  // the interior KLU was analysed for (factor_schur), -1: factor()'s analysis
+  // factor_schur(), dense: I's size; plu_ holds A_II's LU; A_KI U_II^-1 and L_II^-1 P A_IK.
+  int interior_ = 0;
+  Eigen::MatrixXd l_ki_, u_ik_;
   CholmodFactor cholmod_;
   KluFactor klu_;
   Eigen::MatrixXd dense_values_;

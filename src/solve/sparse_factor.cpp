@@ -1,5 +1,6 @@
 #include "solve/sparse_factor.hpp"
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <dlfcn.h>
 #include <suitesparse/cholmod.h>
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <vector>
 #include <stdexcept>
 
 #include "core/validate.hpp"
@@ -142,12 +144,22 @@ void CholmodFactor::solve(double* x) {
 
 // --- KLU -------------------------------------------------------------------------------------------
 
+// K's rows are scaled by this before an LU that eliminates K last (a power of two: exact).
+constexpr double kTrailingScale = 0x1p-200;
+
 struct KluFactor::Impl {
   klu_common c;
   CscView a;
   klu_symbolic* symbolic = nullptr;
   klu_numeric* numeric = nullptr;
   double full_rcond = 0;  // crude reciprocal condition of the last factorisation with pivoting
+  int interior = -1;      // analyze(a, interior): I's size; -1 for analyze(a)
+  // trailing_schur(): the elimination order, and the factors as klu_extract gives them (with U's
+  // diagonal entry per column).
+  std::vector<int> order, lp, li, up, ui, pivot_row, u_diagonal;
+  std::vector<double> lx, ux;
+  mutable std::vector<double> work;
+  std::vector<double> scaled;  // the values with K's rows scaled by kTrailingScale
 };
 
 KluFactor::KluFactor() : impl_(std::make_unique<Impl>()) {
@@ -170,8 +182,73 @@ void KluFactor::analyze(const CscView& view) {
   klu_free_numeric(&m.numeric, &m.c);
   klu_free_symbolic(&m.symbolic, &m.c);
   m.a = view;
+  m.interior = -1;
+  m.c.btf = 1;
   m.symbolic = klu_analyze(view.n, const_cast<int*>(view.colptr), const_cast<int*>(view.rowind), &m.c);
   if (!m.symbolic) throw std::runtime_error("KLU analysis failed");
+}
+
+void KluFactor::analyze(const CscView& view, int interior) {
+  Impl& m = *impl_;
+  klu_free_numeric(&m.numeric, &m.c);
+  klu_free_symbolic(&m.symbolic, &m.c);
+  m.a = view;
+  m.interior = interior;
+  // A block triangular form would reorder K among I.
+  m.c.btf = 0;
+  m.order.clear();
+  if (interior > 0) {
+    // AMD on I's own block: its entries' pattern, as KLU analyses it.
+    std::vector<int> colptr(1, 0), rowind;
+    for (int c = 0; c < interior; ++c) {
+      for (int e = view.colptr[c]; e < view.colptr[c + 1]; ++e)
+        if (view.rowind[e] < interior) rowind.push_back(view.rowind[e]);
+      colptr.push_back(static_cast<int>(rowind.size()));
+    }
+    klu_symbolic* block = klu_analyze(interior, colptr.data(), rowind.data(), &m.c);
+    if (!block) throw std::runtime_error("KLU analysis failed");
+    m.order.assign(block->Q, block->Q + interior);
+    klu_free_symbolic(&block, &m.c);
+  }
+  for (int j = interior; j < view.n; ++j) m.order.push_back(j);
+  m.symbolic = klu_analyze_given(view.n, const_cast<int*>(view.colptr), const_cast<int*>(view.rowind), m.order.data(),
+                                 m.order.data(), &m.c);
+  if (!m.symbolic) throw std::runtime_error("KLU analysis failed");
+}
+
+bool KluFactor::trailing_schur(double* schur) {
+  Impl& m = *impl_;
+  const int n = m.a.n, from = m.interior, k = n - from;
+  if (!m.numeric || from < 0) throw std::logic_error("KluFactor::trailing_schur: no factor analysed with an interior");
+  for (int i = 0; i < from; ++i)
+    if (m.numeric->Pnum[i] >= from) return false;
+  m.lp.resize(n + 1);
+  m.up.resize(n + 1);
+  m.li.resize(m.numeric->lnz);
+  m.lx.resize(m.numeric->lnz);
+  m.ui.resize(m.numeric->unz);
+  m.ux.resize(m.numeric->unz);
+  m.pivot_row.resize(n);
+  if (!klu_extract(m.numeric, m.symbolic, m.lp.data(), m.li.data(), m.lx.data(), m.up.data(), m.ui.data(), m.ux.data(),
+                   nullptr, nullptr, nullptr, m.pivot_row.data(), nullptr, nullptr, nullptr, &m.c))
+    throw std::runtime_error("KLU extraction failed");
+  m.u_diagonal.resize(n);
+  for (int c = 0; c < n; ++c)
+    for (int e = m.up[c]; e < m.up[c + 1]; ++e)
+      if (m.ui[e] == c) m.u_diagonal[c] = e;
+  // L_KK U_KK (L with its unit diagonal stored) is the Schur complement with its rows in pivot
+  // order: row r of the product is row pivot_row[from + r] of A.
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(k, k), u = Eigen::MatrixXd::Zero(k, k);
+  for (int c = from; c < n; ++c) {
+    for (int e = m.lp[c]; e < m.lp[c + 1]; ++e)
+      if (m.li[e] >= from) l(m.li[e] - from, c - from) = m.lx[e];
+    for (int e = m.up[c]; e < m.up[c + 1]; ++e)
+      if (m.ui[e] >= from) u(m.ui[e] - from, c - from) = m.ux[e];
+  }
+  const Eigen::MatrixXd product = l * u;
+  Eigen::Map<Eigen::MatrixXd> out(schur, k, k);
+  for (int r = 0; r < k; ++r) out.row(m.pivot_row[from + r] - from) = product.row(r) / kTrailingScale;
+  return true;
 }
 
 bool KluFactor::factorize() {
@@ -179,6 +256,12 @@ bool KluFactor::factorize() {
   int* p = const_cast<int*>(m.a.colptr);
   int* i = const_cast<int*>(m.a.rowind);
   double* x = const_cast<double*>(m.a.values);
+  if (m.interior >= 0) {
+    m.scaled.assign(x, x + m.a.colptr[m.a.n]);
+    for (int e = 0; e < m.a.colptr[m.a.n]; ++e)
+      if (m.a.rowind[e] >= m.interior) m.scaled[e] *= kTrailingScale;
+    x = m.scaled.data();
+  }
   // Later factorisations of a Newton solve reuse the pivot order of the first (klu_refactor: no
   // pivot search, several times faster); if the reused pivots lose three digits of the crude
   // condition estimate against the last pivoted factorisation, it pivots afresh.
@@ -194,6 +277,36 @@ bool KluFactor::factorize() {
   klu_rcond(m.symbolic, m.numeric, &m.c);
   m.full_rcond = m.c.rcond;
   return m.c.rcond > 0;
+}
+
+void KluFactor::forward_interior(double* b) const {
+  const Impl& m = *impl_;
+  const int n = m.a.n, from = m.interior;
+  std::vector<double>& t = m.work;
+  t.resize(n);
+  for (int k = 0; k < n; ++k) t[k] = b[m.pivot_row[k]] * (k < from ? 1.0 : kTrailingScale);
+  for (int j = 0; j < from; ++j)
+    for (int e = m.lp[j]; e < m.lp[j + 1]; ++e)
+      if (m.li[e] > j) t[m.li[e]] -= m.lx[e] * t[j];
+  for (int k = 0; k < from; ++k) b[k] = t[k];
+  for (int k = from; k < n; ++k) b[m.pivot_row[k]] = t[k] / kTrailingScale;
+}
+
+void KluFactor::back_interior(double* b, const double* u_k) const {
+  const Impl& m = *impl_;
+  const int n = m.a.n, from = m.interior;
+  std::vector<double>& w = m.work;
+  w.assign(b, b + from);
+  for (int c = from; c < n; ++c)
+    for (int e = m.up[c]; e < m.up[c + 1]; ++e)
+      if (m.ui[e] < from) w[m.ui[e]] -= m.ux[e] * u_k[c - from];
+  for (int j = from - 1; j >= 0; --j) {
+    w[j] /= m.ux[m.u_diagonal[j]];
+    for (int e = m.up[j]; e < m.up[j + 1]; ++e)
+      if (m.ui[e] < j) w[m.ui[e]] -= m.ux[e] * w[j];
+  }
+  for (int j = 0; j < from; ++j) b[m.order[j]] = w[j];
+  for (int c = from; c < n; ++c) b[c] = u_k[c - from];
 }
 
 void KluFactor::repivot() { klu_free_numeric(&impl_->numeric, &impl_->c); }

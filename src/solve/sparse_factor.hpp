@@ -45,12 +45,28 @@ class KluFactor {
   KluFactor& operator=(const KluFactor&) = delete;
   // Symbolic analysis (block triangular form, AMD ordering) of the pattern of `a`, both triangles.
   void analyze(const CscView& a);
+  // Symbolic analysis for an LU that eliminates the first `interior` unknowns I first (AMD on their
+  // own block) and the others K last, in order, with no block triangular form: the trailing block
+  // of such an LU is the Schur complement of K (trailing_schur()). factorize() then factors the
+  // matrix with K's rows scaled by 2^-200 (exactly), so that partial pivoting takes the pivots of
+  // I's columns from I's rows, as an LU of A_II alone would.
+  void analyze(const CscView& a, int interior);
   // Numeric LU of the current values with partial pivoting; false if singular.
   bool factorize();
   // The next factorize() searches its pivots afresh instead of reusing the last ones.
   void repivot();
   // x <- A^-1 x for `columns` vectors stored one after another (KLU takes them four at a time).
   void solve(double* x, int columns = 1);
+  // After factorize() of a matrix analysed with `interior`: schur (column-major, |K| x |K|) <-
+  // A_KK - A_KI A_II^-1 A_IK, read off the LU's trailing block, whose factors it keeps for
+  // forward_interior() and back_interior(). False if a pivot of I's columns came from a row of K
+  // (A_II numerically singular): the trailing block is then not that Schur complement.
+  bool trailing_schur(double* schur);
+  // After trailing_schur(): b (n entries) <- [y_I; b_K - A_KI A_II^-1 b_I], the LU's forward
+  // substitution over I's columns (y_I is what back_interior() takes).
+  void forward_interior(double* b) const;
+  // After forward_interior(b): b <- [A_II^-1 (b_I - A_IK u_K); u_K] for the given u_K.
+  void back_interior(double* b, const double* u_k) const;
 
  private:
   struct Impl;

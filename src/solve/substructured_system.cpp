@@ -78,11 +78,11 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     if (bodies[i].empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
     const std::vector<int> part_bodies = bodies[i];
     p.n.assign(s, std::move(bodies[i]), rows[i], mass, dense_max_bodies);
-    p.position.resize(part_bodies.size());
+    std::vector<int> position(part_bodies.size());  // per local body: its position in I_i or in K_i
     for (std::size_t l = 0; l < part_bodies.size(); ++l) {
       const int b = part_bodies[l];
       std::vector<int>& side = boundary[b] ? p.boundary : p.interior;
-      p.position[l] = static_cast<int>(side.size());
+      position[l] = static_cast<int>(side.size());
       side.push_back(static_cast<int>(l));
       if (boundary[b]) {
         p.boundary_at.push_back(static_cast<int>(std::lower_bound(interface_bodies.begin(), interface_bodies.end(), b) -
@@ -90,7 +90,8 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
         cliques[i].push_back(p.boundary_at.back());
       }
     }
-    // N_i's blocks: the diagonal and every pair of bodies a sub-system row joins.
+    // N_i's blocks: the diagonal and every pair of bodies a sub-system row joins; in a, I_i's
+    // bodies come first, then K_i's.
     std::vector<std::array<int, 2>> pairs;
     for (std::size_t l = 0; l < part_bodies.size(); ++l) pairs.push_back({static_cast<int>(l), static_cast<int>(l)});
     for (const int j : rows[i])
@@ -101,25 +102,20 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
       }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    std::vector<std::array<int, 2>> interior_pairs;
+    const int ni = static_cast<int>(p.interior.size());
+    p.block_of.resize(part_bodies.size());
+    for (std::size_t l = 0; l < part_bodies.size(); ++l)
+      p.block_of[l] = boundary[part_bodies[l]] ? ni + position[l] : position[l];
+    std::vector<std::array<int, 2>> blocks;
+    for (const auto& [r, c] : pairs) blocks.push_back({p.block_of[r], p.block_of[c]});
+    std::sort(blocks.begin(), blocks.end());
+    p.a.assign_blocks(static_cast<int>(part_bodies.size()), blocks, dense_max_bodies);
+    p.from.clear();
+    p.to.clear();
     for (const auto& [r, c] : pairs) {
-      const bool r_in = !boundary[part_bodies[r]], c_in = !boundary[part_bodies[c]];
-      (r_in ? (c_in ? p.ii : p.ik) : (c_in ? p.ki : p.kk)).push_back({r, c});
-      if (r_in && c_in) interior_pairs.push_back({p.position[r], p.position[c]});
+      p.from.push_back(p.n.slot(r, c));
+      p.to.push_back(p.a.slot(p.block_of[r], p.block_of[c]));
     }
-    // Sorted by (r, c) on local bodies, which keeps the interior positions' order.
-    p.n_ii.assign_blocks(static_cast<int>(p.interior.size()), interior_pairs, dense_max_bodies);
-    const auto slots = [&](const std::vector<std::array<int, 2>>& blocks) {
-      std::vector<PatternFactor::Slot> at;
-      for (const auto& [r, c] : blocks) at.push_back(p.n.slot(r, c));
-      return at;
-    };
-    p.ii_at = slots(p.ii);
-    p.ik_at = slots(p.ik);
-    p.ki_at = slots(p.ki);
-    p.kk_at = slots(p.kk);
-    p.ii_to.clear();
-    for (const auto& [r, c] : p.ii) p.ii_to.push_back(p.n_ii.slot(p.position[r], p.position[c]));
   }
   // S carries no mass of its own: the parts' blocks hold it.
   interface_.assign(s, std::move(interface_bodies), std::move(interface_rows), std::vector<Mat6>(s.bodies, Mat6::Zero()),
@@ -136,26 +132,10 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
 void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.refactored = !(p.ok && p.n.assembled_for(piece));
   if (!p.refactored) return;
-  const bool tied = p.n.assemble(piece);
-  const int ni = static_cast<int>(p.interior.size()), k = static_cast<int>(p.boundary.size());
-  p.n_ii.set_zero();
-  for (std::size_t b = 0; b < p.ii.size(); ++b) p.n_ii.block(p.ii_to[b]) = p.n.block(p.ii_at[b]);
-  p.ok = ni == 0 || p.n_ii.factor(!tied);
-  if (!p.ok || k == 0) return;
-  p.x.setZero(6 * ni, 6 * k);
-  for (std::size_t b = 0; b < p.ik.size(); ++b)
-    p.x.block<6, 6>(6 * p.position[p.ik[b][0]], 6 * p.position[p.ik[b][1]]) = p.n.block(p.ik_at[b]);
-  p.schur.setZero(6 * k, 6 * k);
-  for (std::size_t b = 0; b < p.kk.size(); ++b)
-    p.schur.block<6, 6>(6 * p.position[p.kk[b][0]], 6 * p.position[p.kk[b][1]]) = p.n.block(p.kk_at[b]);
-  if (ni == 0) return;
-  p.n_ii.solve(p.x.data(), 6 * k);
-  // N_KI X_i block by block: N_KI holds only the blocks of rows joining a boundary body to an
-  // interior one, a few per boundary body, where a dense product would run over all of I_i.
-  for (std::size_t b = 0; b < p.ki.size(); ++b)
-    p.schur.middleRows<6>(6 * p.position[p.ki[b][0]]).noalias() -=
-        p.n.block(p.ki_at[b]) * p.x.middleRows<6>(6 * p.position[p.ki[b][1]]);
-  p.ok = p.schur.allFinite();
+  p.n.assemble(piece);
+  // Every block of a is one of N_i's.
+  for (std::size_t b = 0; b < p.from.size(); ++b) p.a.block(p.to[b]) = p.n.block(p.from[b]);
+  p.ok = p.a.factor_schur(6 * static_cast<int>(p.interior.size()), p.schur);
 }
 
 bool SubstructuredSystem::factor(const Piece& piece) {
@@ -189,18 +169,13 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   const Timer wall;
   last_ = SubstructuredCost{};
   x.resize(g.size());
-  // v_i = N_II^-1 h_I, and the part's terms of r: h_K - N_KI v_i.
+  // The forward substitution over I_i, which leaves the part's terms of r, h_K - N_KI N_II^-1 h_I.
   for_parts([&](Part& p) {
     p.h.setZero(6 * p.n.bodies());
     p.n.add_rhs(g, p.h);
-    p.v.resize(6 * static_cast<Eigen::Index>(p.interior.size()));
-    for (std::size_t l = 0; l < p.interior.size(); ++l) p.v.segment<6>(6 * l) = p.h.segment<6>(6 * p.interior[l]);
-    if (!p.interior.empty()) p.n_ii.solve(p.v.data());
-    p.c.resize(6 * static_cast<Eigen::Index>(p.boundary.size()));
-    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.c.segment<6>(6 * l) = p.h.segment<6>(6 * p.boundary[l]);
-    for (std::size_t b = 0; b < p.ki.size(); ++b)
-      p.c.segment<6>(6 * p.position[p.ki[b][0]]).noalias() -=
-          p.n.block(p.ki_at[b]) * p.v.segment<6>(6 * p.position[p.ki[b][1]]);
+    p.rhs.resize(p.h.size());
+    for (int l = 0; l < p.n.bodies(); ++l) p.rhs.segment<6>(6 * p.block_of[l]) = p.h.segment<6>(6 * l);
+    p.a.forward_interior(p.rhs.data());
   });
   // The interface bodies' velocities u_K, in part order, then the interface rows' impulses.
   if (interface_.bodies() > 0)
@@ -208,16 +183,18 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
       r_.setZero();
       interface_.add_rhs(g, r_);
       for (const Part& p : parts_)
-        for (std::size_t l = 0; l < p.boundary.size(); ++l) r_.segment<6>(6 * p.boundary_at[l]) += p.c.segment<6>(6 * l);
+        for (std::size_t l = 0; l < p.boundary.size(); ++l)
+          r_.segment<6>(6 * p.boundary_at[l]) += p.rhs.segment<6>(6 * (p.interior.size() + l));
       interface_.solve(r_.data());
       interface_.recover(g, r_, x);
     });
-  // u_I = v_i - X_i u_K, then the part's own impulses.
+  // u_I = N_II^-1 (h_I - N_IK u_K), then the part's own impulses.
   for_parts([&](Part& p) {
-    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.c.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
-    if (!p.boundary.empty() && !p.interior.empty()) p.v.noalias() -= p.x * p.c;
-    for (std::size_t l = 0; l < p.interior.size(); ++l) p.h.segment<6>(6 * p.interior[l]) = p.v.segment<6>(6 * l);
-    for (std::size_t l = 0; l < p.boundary.size(); ++l) p.h.segment<6>(6 * p.boundary[l]) = p.c.segment<6>(6 * l);
+    const int k = static_cast<int>(p.boundary.size());
+    p.u_k.resize(6 * k);
+    for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
+    p.a.back_interior(p.rhs.data(), p.u_k.data());
+    for (int l = 0; l < p.n.bodies(); ++l) p.h.segment<6>(6 * l) = p.rhs.segment<6>(6 * p.block_of[l]);
     p.n.recover(g, p.h, x);
   });
   finish_call(wall.ms());

@@ -19,17 +19,20 @@
 // Σ_I + J_I W J_I^T, with the roles of rows and bodies exchanged (Woodbury): the same answer, with
 // 6 unknowns per interface body instead of one per interface row, and fill only within each K_i
 // and along the interface rows' bodies, where S over rows couples every two interface rows of a
-// part. Formed from N_II's factor rather than by inverting W_i, it is as accurate as N's own
+// part. Formed from N_i's own LU rather than by inverting W_i, it is as accurate as N's own
 // factorisation. S is symmetric positive definite when no row of the island is tied, else not
 // symmetric.
 //
-// factor(): every part, in parallel, assembles N_i, factors N_II,i and forms X_i and its block of
-// S if its sub-system rows' equations, ties or shifts changed since it last did. S is then
+// factor(): every part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or
+// shifts changed since it last did, factors it by LU with I_i's bodies first and K_i's last: the
+// trailing block of that LU is its block of S (pattern_factor.hpp, factor_schur), and its forward
+// and back substitutions over I_i give h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). S is then
 // assembled (N_T from the interface rows, as body_space.hpp assembles N, plus each part's block in
 // part order, so the result does not depend on the thread count) and factored like N: its pattern,
 // the interface rows' body graph with each K_i a clique, is fixed and analysed once. solve(): every
-// part, in parallel, solves N_II v = h_I and forms its terms of r; the interface solves S
-// (serial); every part, in parallel, back-substitutes and recovers its sub-system rows' impulses.
+// part, in parallel, substitutes forward over I_i, which leaves its terms of r; the interface solves
+// S (serial); every part, in parallel, substitutes back for u_I and recovers its sub-system rows'
+// impulses.
 #include "solve/body_space.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
@@ -70,20 +73,19 @@ class SubstructuredSystem final : public LinearSystem {
     BodySpaceSystem n;                  // N_i on the part's bodies and sub-system rows (assembled only)
     std::vector<int> interior, boundary;  // I_i, K_i: local bodies (n's numbering), increasing
     std::vector<int> boundary_at;       // K_i's positions among the interface system's bodies
-    std::vector<int> position;          // per local body: its position in I_i or in K_i
-    // N_i's blocks (local bodies) by where they lie: I x I, I x K, K x I, K x K.
-    std::vector<std::array<int, 2>> ii, ik, ki, kk;
-    // Their slots in N_i (and of the I x I blocks in N_II), and of K_i x K_i in S (column-major).
-    std::vector<PatternFactor::Slot> ii_at, ii_to, ik_at, ki_at, kk_at, schur_at;
-    PatternFactor n_ii;                 // N_II, on I_i's positions
+    std::vector<int> block_of;          // per local body: its block in a (I_i's first, then K_i's)
+    std::vector<PatternFactor::Slot> from, to;  // each block of N_i: its slot in n, and in a
+    std::vector<PatternFactor::Slot> schur_at;  // K_i x K_i's slots in S (column-major)
+    PatternFactor a;                    // N_i with I_i's bodies first, factored with K_i's last
     bool refactored = false, ok = false;
-    Eigen::MatrixXd x;                  // X_i = N_II^-1 N_IK (6 |I_i| x 6 |K_i|)
-    Eigen::MatrixXd schur;              // N_KK - N_KI X_i, the part's block of S
-    Eigen::VectorXd h, v, c;            // h_i then u_i; v_i; h_K - N_KI v_i, then u_K
+    Eigen::MatrixXd schur;              // N_KK - N_KI N_II^-1 N_IK, the part's block of S
+    // h_i then u_i (n's order); h_i in a's order, after the forward substitution over I_i
+    // [y_I; h_K - N_KI N_II^-1 h_I], then u_i; u_K.
+    Eigen::VectorXd h, rhs, u_k;
     double ms = 0;                      // the part's time in the current parallel phase
   };
 
-  // Refactors part p if its rows changed: N_II's factor, X_i and the part's block of S.
+  // Refactors part p if its rows changed: N_i's LU and the part's block of S.
   void factor_part(Part& p, const Piece& piece);
   // Runs fn(part) for every part in parallel, timing each; the slowest counts to the critical path.
   template <class Fn>
