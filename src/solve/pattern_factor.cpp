@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/validate.hpp"
 #include "solve/solve_check.hpp"
@@ -73,6 +74,7 @@ void PatternFactor::set_zero() {
 
 bool PatternFactor::factor(bool symmetric) {
   lu_ = !symmetric;
+  schur_ = false;
   if (dense_) {
     if (!lu_) {
       llt_.compute(dense_values_);
@@ -98,6 +100,7 @@ bool PatternFactor::factor(bool symmetric) {
 
 bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
   lu_ = true;
+  schur_ = true;
   interior_ = interior;
   const int k = n_ - interior;
   schur.resize(k, k);
@@ -154,6 +157,8 @@ void PatternFactor::back_interior(double* b, const double* u_k) {
 }
 
 void PatternFactor::solve(double* x, int columns) {
+  // factor_schur() factors A_II (dense) or A with K's rows scaled (sparse), not A.
+  if (schur_) throw std::logic_error("PatternFactor::solve after factor_schur");
   // Nothing to solve; Eigen's triangular solve would bind a reference to an empty map's null data.
   if (columns == 0) return;
   if (dense_) {

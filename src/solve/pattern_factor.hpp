@@ -58,7 +58,8 @@ class PatternFactor {
   // others) by LU with I's pivots taken among I's rows and K eliminated last, and sets `schur` to
   // K's Schur complement A_KK - A_KI A_II^-1 A_IK: the LU's trailing block. Sparse, by KLU in a
   // given order (KluFactor::trailing_schur); dense, by Eigen's LU of A_II. False if numerically
-  // singular. Then forward_interior() and back_interior() solve with A_II, and solve() is not used.
+  // singular. Then forward_interior() and back_interior() solve with A_II; solve() throws until the
+  // next factor().
   bool factor_schur(int interior, Eigen::MatrixXd& schur);
   // After factor_schur(): b (size() entries) <- [y_I; b_K - A_KI A_II^-1 b_I] (y_I: the forward
   // substitution's, for back_interior()).
@@ -80,6 +81,7 @@ class PatternFactor {
   // factor_schur(), dense: I's size; plu_ holds A_II's LU; A_KI U_II^-1 and L_II^-1 P A_IK.
   int interior_ = 0;
   Eigen::MatrixXd l_ki_, u_ik_;
+  bool schur_ = false;  // the last factorisation was factor_schur()'s
   CholmodFactor cholmod_;
   KluFactor klu_;
   Eigen::MatrixXd dense_values_;
