@@ -113,6 +113,9 @@ bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
     plu_.compute(a_ii);
     const double pivot = plu_.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(std::isfinite(pivot) && pivot > 0)) return false;
+    // Without K there is nothing to eliminate (and Eigen's triangular solves would bind a
+    // reference to an empty matrix's null data).
+    if (k == 0) return true;
     u_ik_ = plu_.permutationP() * a_ik;
     plu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(u_ik_);
     l_ki_ = a_ki;
@@ -138,7 +141,7 @@ void PatternFactor::forward_interior(double* b) {
   if (interior_ == 0) return;
   b_i = plu_.permutationP() * b_i;
   plu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(b_i);
-  b_k.noalias() -= l_ki_ * b_i;
+  if (k > 0) b_k.noalias() -= l_ki_ * b_i;
 }
 
 void PatternFactor::back_interior(double* b, const double* u_k) {
@@ -150,7 +153,7 @@ void PatternFactor::back_interior(double* b, const double* u_k) {
   Eigen::Map<Eigen::VectorXd> b_i(b, interior_), b_k(b + interior_, k);
   const Eigen::Map<const Eigen::VectorXd> u(u_k, k);
   if (interior_ > 0) {
-    b_i.noalias() -= u_ik_ * u;
+    if (k > 0) b_i.noalias() -= u_ik_ * u;
     plu_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(b_i);
   }
   b_k = u;
