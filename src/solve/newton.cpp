@@ -44,6 +44,22 @@ void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda, IslandC
   });
 }
 
+// The kinetic energy an answer leaves: with q = J u* + b (u* the free motion, b assemble.cpp's
+// position bias) and A = J M^-1 J^T + Sigma, the bodies' kinetic energy changes from the free
+// motion's by E(lambda) - lambda^T Sigma lambda / 2 - lambda^T b, E(lambda) = lambda^T A lambda / 2
+// + lambda^T q. An exact answer does no positive work (lambda_j w_j <= 0 on every row: w = 0 on
+// free rows, at a bound w pushes outward and every box holds 0), so E <= -lambda^T A lambda / 2 < 0.
+// A point with E > 0 would add energy to the free motion: it is scaled back to t lambda, t = -b' / a
+// (a = lambda^T A lambda, b' = lambda^T q; 0 if b' >= 0), the point of its ray that does no work and
+// E(t lambda) = -b'^2 / 2a <= 0. t lambda is admissible: the boxes hold 0 and friction's scales with
+// its normal. Returns t (1: left as it is). Only for boxes that hold 0 (see `scalable`).
+double energy_scale(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w) {
+  const double work = lambda.dot(w), free_work = lambda.dot(s.q);  // a + b', b'
+  if (!(work + free_work > 0)) return 1;                            // 2 E <= 0 (or not finite)
+  // -b' / a without cancellation when t is small.
+  return free_work < 0 ? -free_work / (work - free_work) : 0.0;
+}
+
 // The natural map's state at (lambda, w): each row Free, or at its Lower or Upper bound (a
 // friction row: at -+mu lambda_n). With `warm`, rows free there stay free and friction rows keep
 // their state while their normal pushes; clamped rows follow the natural map (a new contact, stored
@@ -152,24 +168,46 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
                           std::vector<RowState>& state, NewtonWorkspace& ws) {
   NewtonResult result;
   const double scale = std::max(max_abs(s.q), 1e-12);
-  // The answer is the admissible point of least residual among the projected iterates.
-  result.residual = std::numeric_limits<double>::infinity();
+  // The iteration steers by the admissible point of least residual among the projected iterates
+  // (ws.best). The answer is that point if it settles; if none does, the point of least residual
+  // once each is scaled back where it would add kinetic energy to the free motion (ws.answer,
+  // energy_scale): the budget may end far from the answer, and points that add energy threw the
+  // boxes of a 1:100:10000 bin out at up to 1e9 J.
+  double best = std::numeric_limits<double>::infinity(), answer = best;
   double last = 0;  // the residual of the last point considered
-  bool have_best = false;  // the first point is kept even if its residual is not finite
+  bool have_best = false, have_answer = false;  // the first point is kept even if its residual is not finite
+  // Scaling back needs every box to hold 0: the engine's rows do, a general box row may not.
+  bool scalable = true;
+  for (int j = 0; j < s.rows; ++j) scalable = scalable && (s.normal_of[j] >= 0 || (s.lo[j] <= 0 && s.hi[j] >= 0));
   const auto consider = [&](Eigen::VectorXd& candidate) {
     project_onto_bounds(s, candidate, ws.chunks);
     velocities(s, candidate, ws.du, ws.trial_w, ws.chunks);
     scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw, ws.chunks);
     last = residual_of(ws.trial_fw, scale);
-    if (last < result.residual || !have_best) {
+    if (last < best || !have_best) {
       have_best = true;
-      result.residual = last;
+      best = last;
       ws.best = candidate;
-      ws.w = ws.trial_w;
+    }
+    if (last <= kSettledResidual) return;
+    // Scaled back, projected again (t mu lambda_n may round below t lambda_t) and measured anew.
+    const double t = scalable ? energy_scale(s, candidate, ws.trial_w) : 1.0;
+    double residual = last;
+    if (t != 1) {
+      ws.ex = t * candidate;
+      project_onto_bounds(s, ws.ex, ws.chunks);
+      velocities(s, ws.ex, ws.du, ws.trial_w, ws.chunks);
+      scaled_natural_map(s, ws.ex, ws.trial_w, ws.trial_fw, ws.chunks);
+      residual = residual_of(ws.trial_fw, scale);
+    }
+    if (residual < answer || !have_answer) {
+      have_answer = true;
+      answer = residual;
+      ws.answer = t != 1 ? ws.ex : candidate;
     }
   };
   const auto settled = [&] {
-    return result.residual <= kSettledResidual || result.factorizations >= max_factorizations;
+    return best <= kSettledResidual || result.factorizations >= max_factorizations;
   };
   // The solution of a piece (one factorisation), refined against its exact equations, in ws.x.
   const auto solve_piece = [&]() {
@@ -207,9 +245,9 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       if (!solve_piece()) return;
       ws.base = ws.x;
       velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
-      const double before = result.residual;
+      const double before = best;
       consider(ws.x);
-      idle = result.residual < before ? 0 : idle + 1;
+      idle = best < before ? 0 : idle + 1;
     }
   };
 
@@ -243,7 +281,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       // the answer's. One Newton step in the state its predictor indicates ends the solve on that
       // piece's solution, exact to round-off, where the budget allows (kept if better, as any
       // point). (The natural map's state at the iterate missed round-off on 1 of 68 replayed islands.)
-      if (result.residual <= kSettledResidual && result.residual == last &&
+      if (best <= kSettledResidual && best == last &&
           result.factorizations < max_factorizations) {
         ws.base = ws.trial;
         ws.piece_state = ws.ipm.indicated();
@@ -263,12 +301,13 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       ws.ipm_state = indicated;
     }
   }
-  lambda = ws.best;
+  result.settled = best <= kSettledResidual;
+  result.residual = result.settled ? best : answer;
+  lambda = result.settled ? ws.best : ws.answer;
   velocities(s, lambda, ws.du, ws.w, ws.chunks);
   natural_state(s, lambda, ws.w, nullptr, ws.piece_state, ws.chunks);
   set_piece(s, lambda, ws);
   state = ws.piece_state;
-  result.settled = result.residual <= kSettledResidual;
   return result;
 }
 

@@ -30,7 +30,10 @@
 // and joint limits, then friction onto the box of its projected normal), and the projected point of
 // least residual, max_j A_jj |F_j| / max_j |q_j|, is kept. It stops when that residual is at most
 // kSettledResidual, or after max_factorizations factorisations (the budget; interior-point steps
-// count one each).
+// count one each). An answer that ends unsettled never leaves the bodies more kinetic energy than
+// their free motion (beyond the work of assemble.cpp's position bias: penetration pushed out,
+// joints' drift corrected), as an exact one never does: each unsettled point that would is scaled back towards 0 to the point of its ray that does
+// no work, and the least residual among the points so treated is kept (newton.cpp, energy_scale).
 #include "solve/interior_point.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
@@ -56,7 +59,7 @@ struct NewtonResult {
 struct NewtonWorkspace {
   Piece piece;
   std::vector<RowState> piece_state;
-  Eigen::VectorXd w, fw, g, x, e, ex, d, ad, trial, trial_w, trial_fw, best, du, start, base, base_w;
+  Eigen::VectorXd w, fw, g, x, e, ex, d, ad, trial, trial_w, trial_fw, best, answer, du, start, base, base_w;
   InteriorPoint ipm;
   // The loops over the island's rows and bodies (one chunk, serial, unless the caller sets more).
   IslandChunks chunks;
