@@ -12,6 +12,9 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   bodies_ = std::move(bodies);
   rows_ = std::move(rows);
   const int nb = this->bodies(), nr = static_cast<int>(rows_.size());
+  by_body_.resize(nb);
+  for (int b = 0; b < nb; ++b) by_body_[b] = {bodies_[b], b};
+  std::sort(by_body_.begin(), by_body_.end());
   mass_.resize(nb);
   for (int b = 0; b < nb; ++b) mass_[b] = mass[bodies_[b]];
   // N's pattern follows from the bodies and each row's bodies: unchanged (a resting island assigned
@@ -81,13 +84,18 @@ void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& clique
 }
 
 int BodySpaceSystem::local_body(int b) const {
-  return static_cast<int>(std::lower_bound(bodies_.begin(), bodies_.end(), b) - bodies_.begin());
+  return std::lower_bound(by_body_.begin(), by_body_.end(), std::array<int, 2>{b, -1})->at(1);
 }
 
 bool BodySpaceSystem::factor(const Piece& piece) { return factor_assembled(!assemble(piece)); }
 
 bool BodySpaceSystem::factor_assembled(bool symmetric) {
   factored_ = n_.factor(symmetric);
+  return factored_;
+}
+
+bool BodySpaceSystem::factor_schur(int interior, Eigen::MatrixXd& schur) {
+  factored_ = n_.factor_schur(6 * interior, schur);
   return factored_;
 }
 

@@ -25,10 +25,11 @@ namespace rbpart {
 
 class BodySpaceSystem {
  public:
-  // `bodies` and `rows` are island bodies and rows, both increasing; every body of a row is in
-  // `bodies`. `mass` is M per island body. `s` must outlive the solves. `cliques` (positions among
-  // `bodies`) add blocks between every two bodies of each to N's pattern, for terms the caller adds
-  // between assemble() and factor_assembled() (the substructured backend's interface).
+  // `bodies` (distinct island bodies, in the order of N's block rows) and `rows` (island rows,
+  // increasing); every body of a row is in `bodies`. `mass` is M per island body. `s` must outlive
+  // the solves. `cliques` (positions among `bodies`) add blocks between every two bodies of each to
+  // N's pattern, for terms the caller adds between assemble() and factor_assembled() (the
+  // substructured backend's interface).
   void assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows, const std::vector<Mat6>& mass,
               int dense_max_bodies, const std::vector<std::vector<int>>& cliques = {});
 
@@ -47,6 +48,12 @@ class BodySpaceSystem {
   PatternFactor::Slot slot(int r, int c) const { return n_.slot(r, c); }
   PatternFactor::Block block(PatternFactor::Slot at) { return n_.block(at); }
   bool factor_assembled(bool symmetric);
+  // The substructured backend's part (pattern_factor.hpp, factor_schur): N factored by LU with its
+  // first `interior` bodies eliminated first, `schur` <- the Schur complement of the others; then
+  // h (6 entries per body) <- [y_I; h_K - N_KI N_II^-1 h_I], and <- [N_II^-1 (h_I - N_IK u_K); u_K].
+  bool factor_schur(int interior, Eigen::MatrixXd& schur);
+  void forward_interior(Eigen::VectorXd& h) { n_.forward_interior(h.data()); }
+  void back_interior(Eigen::VectorXd& h, const Eigen::VectorXd& u_k) { n_.back_interior(h.data(), u_k.data()); }
   // Whether `piece` gives the rows the equations, ties and shifts of the last assemble(), and N
   // was factored since.
   bool factored_for(const Piece& piece) const { return factored_ && assembled_for(piece); }
@@ -67,6 +74,7 @@ class BodySpaceSystem {
 
   const IslandSystem* s_ = nullptr;
   std::vector<int> bodies_, rows_;
+  std::vector<std::array<int, 2>> by_body_;  // {island body, position}, by island body
   std::vector<std::array<int, 2>> body_;  // local body per slot of each local row, -1 = none
   std::vector<int> normal_;               // local row of a row's normal, -1 if none
   std::vector<Mat6> mass_;                // per local body

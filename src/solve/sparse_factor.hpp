@@ -48,8 +48,8 @@ class KluFactor {
   // Symbolic analysis for an LU that eliminates the first `interior` unknowns I first (AMD on their
   // own block) and the others K last, in order, with no block triangular form: the trailing block
   // of such an LU is the Schur complement of K (trailing_schur()). factorize() then factors the
-  // matrix with K's rows scaled by 2^-200 (exactly), so that partial pivoting takes the pivots of
-  // I's columns from I's rows, as an LU of A_II alone would.
+  // matrix with K's rows scaled by 2^-200 (exactly; in place, restored after), so that partial
+  // pivoting takes the pivots of I's columns from I's rows, as an LU of A_II alone would.
   void analyze(const CscView& a, int interior);
   // Numeric LU of the current values with partial pivoting; false if singular.
   bool factorize();
@@ -69,6 +69,7 @@ class KluFactor {
   void back_interior(double* b, const double* u_k) const;
 
  private:
+  bool factorize_values();  // the LU of the values as they stand
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -76,46 +76,20 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
   for (int i = 0; i < part_count; ++i) {
     Part& p = parts_[i];
     if (bodies[i].empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
-    const std::vector<int> part_bodies = bodies[i];
+    // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
+    std::stable_partition(bodies[i].begin(), bodies[i].end(), [&](int b) { return !boundary[b]; });
+    p.interior = 0;
+    p.boundary_at.clear();
+    for (const int b : bodies[i]) {
+      if (!boundary[b]) {
+        ++p.interior;
+        continue;
+      }
+      p.boundary_at.push_back(static_cast<int>(std::lower_bound(interface_bodies.begin(), interface_bodies.end(), b) -
+                                               interface_bodies.begin()));
+      cliques[i].push_back(p.boundary_at.back());
+    }
     p.n.assign(s, std::move(bodies[i]), rows[i], mass, dense_max_bodies);
-    std::vector<int> position(part_bodies.size());  // per local body: its position in I_i or in K_i
-    for (std::size_t l = 0; l < part_bodies.size(); ++l) {
-      const int b = part_bodies[l];
-      std::vector<int>& side = boundary[b] ? p.boundary : p.interior;
-      position[l] = static_cast<int>(side.size());
-      side.push_back(static_cast<int>(l));
-      if (boundary[b]) {
-        p.boundary_at.push_back(static_cast<int>(std::lower_bound(interface_bodies.begin(), interface_bodies.end(), b) -
-                                                 interface_bodies.begin()));
-        cliques[i].push_back(p.boundary_at.back());
-      }
-    }
-    // N_i's blocks: the diagonal and every pair of bodies a sub-system row joins; in a, I_i's
-    // bodies come first, then K_i's.
-    std::vector<std::array<int, 2>> pairs;
-    for (std::size_t l = 0; l < part_bodies.size(); ++l) pairs.push_back({static_cast<int>(l), static_cast<int>(l)});
-    for (const int j : rows[i])
-      if (s.body[j][1] >= 0) {
-        const int a = p.n.local_body(s.body[j][0]), b = p.n.local_body(s.body[j][1]);
-        pairs.push_back({a, b});
-        pairs.push_back({b, a});
-      }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    const int ni = static_cast<int>(p.interior.size());
-    p.block_of.resize(part_bodies.size());
-    for (std::size_t l = 0; l < part_bodies.size(); ++l)
-      p.block_of[l] = boundary[part_bodies[l]] ? ni + position[l] : position[l];
-    std::vector<std::array<int, 2>> blocks;
-    for (const auto& [r, c] : pairs) blocks.push_back({p.block_of[r], p.block_of[c]});
-    std::sort(blocks.begin(), blocks.end());
-    p.a.assign_blocks(static_cast<int>(part_bodies.size()), blocks, dense_max_bodies);
-    p.from.clear();
-    p.to.clear();
-    for (const auto& [r, c] : pairs) {
-      p.from.push_back(p.n.slot(r, c));
-      p.to.push_back(p.a.slot(p.block_of[r], p.block_of[c]));
-    }
   }
   // S carries no mass of its own: the parts' blocks hold it.
   interface_.assign(s, std::move(interface_bodies), std::move(interface_rows), std::vector<Mat6>(s.bodies, Mat6::Zero()),
@@ -133,9 +107,7 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.refactored = !(p.ok && p.n.assembled_for(piece));
   if (!p.refactored) return;
   p.n.assemble(piece);
-  // Every block of a is one of N_i's.
-  for (std::size_t b = 0; b < p.from.size(); ++b) p.a.block(p.to[b]) = p.n.block(p.from[b]);
-  p.ok = p.a.factor_schur(6 * static_cast<int>(p.interior.size()), p.schur);
+  p.ok = p.n.factor_schur(p.interior, p.schur);
 }
 
 bool SubstructuredSystem::factor(const Piece& piece) {
@@ -151,7 +123,7 @@ bool SubstructuredSystem::factor(const Piece& piece) {
     serial([&] {
       interface_.assemble(piece);
       for (const Part& p : parts_) {
-        const int k = static_cast<int>(p.boundary.size());
+        const int k = static_cast<int>(p.boundary_at.size());
         for (int c = 0; c < k; ++c)
           for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
       }
@@ -173,9 +145,7 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   for_parts([&](Part& p) {
     p.h.setZero(6 * p.n.bodies());
     p.n.add_rhs(g, p.h);
-    p.rhs.resize(p.h.size());
-    for (int l = 0; l < p.n.bodies(); ++l) p.rhs.segment<6>(6 * p.block_of[l]) = p.h.segment<6>(6 * l);
-    p.a.forward_interior(p.rhs.data());
+    p.n.forward_interior(p.h);
   });
   // The interface bodies' velocities u_K, in part order, then the interface rows' impulses.
   if (interface_.bodies() > 0)
@@ -183,18 +153,17 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
       r_.setZero();
       interface_.add_rhs(g, r_);
       for (const Part& p : parts_)
-        for (std::size_t l = 0; l < p.boundary.size(); ++l)
-          r_.segment<6>(6 * p.boundary_at[l]) += p.rhs.segment<6>(6 * (p.interior.size() + l));
+        for (std::size_t l = 0; l < p.boundary_at.size(); ++l)
+          r_.segment<6>(6 * p.boundary_at[l]) += p.h.segment<6>(6 * (p.interior + l));
       interface_.solve(r_.data());
       interface_.recover(g, r_, x);
     });
   // u_I = N_II^-1 (h_I - N_IK u_K), then the part's own impulses.
   for_parts([&](Part& p) {
-    const int k = static_cast<int>(p.boundary.size());
+    const int k = static_cast<int>(p.boundary_at.size());
     p.u_k.resize(6 * k);
     for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
-    p.a.back_interior(p.rhs.data(), p.u_k.data());
-    for (int l = 0; l < p.n.bodies(); ++l) p.h.segment<6>(6 * l) = p.rhs.segment<6>(6 * p.block_of[l]);
+    p.n.back_interior(p.h, p.u_k);
     p.n.recover(g, p.h, x);
   });
   finish_call(wall.ms());

@@ -70,18 +70,16 @@ class SubstructuredSystem final : public LinearSystem {
 
  private:
   struct Part {
-    BodySpaceSystem n;                  // N_i on the part's bodies and sub-system rows (assembled only)
-    std::vector<int> interior, boundary;  // I_i, K_i: local bodies (n's numbering), increasing
+    // N_i on the part's bodies (I_i's first, then K_i's) and sub-system rows, factored with K_i's
+    // last (BodySpaceSystem::factor_schur).
+    BodySpaceSystem n;
+    int interior = 0;                   // |I_i|
     std::vector<int> boundary_at;       // K_i's positions among the interface system's bodies
-    std::vector<int> block_of;          // per local body: its block in a (I_i's first, then K_i's)
-    std::vector<PatternFactor::Slot> from, to;  // each block of N_i: its slot in n, and in a
     std::vector<PatternFactor::Slot> schur_at;  // K_i x K_i's slots in S (column-major)
-    PatternFactor a;                    // N_i with I_i's bodies first, factored with K_i's last
     bool refactored = false, ok = false;
     Eigen::MatrixXd schur;              // N_KK - N_KI N_II^-1 N_IK, the part's block of S
-    // h_i then u_i (n's order); h_i in a's order, after the forward substitution over I_i
-    // [y_I; h_K - N_KI N_II^-1 h_I], then u_i; u_K.
-    Eigen::VectorXd h, rhs, u_k;
+    // h_i, then [y_I; h_K - N_KI N_II^-1 h_I] after the forward substitution over I_i, then u_i; u_K.
+    Eigen::VectorXd h, u_k;
     double ms = 0;                      // the part's time in the current parallel phase
   };
 
