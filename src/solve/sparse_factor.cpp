@@ -302,8 +302,10 @@ void KluFactor::forward_interior(double* b) const {
   t.resize(n);
   for (int k = 0; k < n; ++k) t[k] = b[pivot_row[k]] * (k < from ? 1.0 : kTrailingScale);
   for (int j = 0; j < from; ++j) {
+    const double tj = t[j];  // (the column's rows lie below j)
+    if (tj == 0) continue;
     const KluColumn lc = klu_column(m.numeric, m.numeric->Lip, m.numeric->Llen, j);
-    for (int e = 0; e < lc.size; ++e) t[lc.row[e]] -= lc.value[e] * t[j];
+    for (int e = 0; e < lc.size; ++e) t[lc.row[e]] -= lc.value[e] * tj;
   }
   for (int k = 0; k < from; ++k) b[k] = t[k];
   for (int k = from; k < n; ++k) b[pivot_row[k]] = t[k] / kTrailingScale;
@@ -316,14 +318,16 @@ void KluFactor::back_interior(double* b, const double* u_k) const {
   std::vector<double>& w = m.work;
   w.assign(b, b + from);
   for (int c = from; c < n; ++c) {
+    const double uc_k = u_k[c - from];
     const KluColumn uc = klu_column(m.numeric, m.numeric->Uip, m.numeric->Ulen, c);
     for (int e = 0; e < uc.size; ++e)
-      if (uc.row[e] < from) w[uc.row[e]] -= uc.value[e] * u_k[c - from];
+      if (uc.row[e] < from) w[uc.row[e]] -= uc.value[e] * uc_k;
   }
   for (int j = from - 1; j >= 0; --j) {
-    w[j] /= u_diagonal[j];
+    const double wj = w[j] /= u_diagonal[j];  // (the column's rows lie above j)
+    if (wj == 0) continue;
     const KluColumn uc = klu_column(m.numeric, m.numeric->Uip, m.numeric->Ulen, j);
-    for (int e = 0; e < uc.size; ++e) w[uc.row[e]] -= uc.value[e] * w[j];
+    for (int e = 0; e < uc.size; ++e) w[uc.row[e]] -= uc.value[e] * wj;
   }
   for (int j = 0; j < from; ++j) b[m.order[j]] = w[j];
   for (int c = from; c < n; ++c) b[c] = u_k[c - from];
