@@ -18,7 +18,7 @@ struct Options {
   std::vector<std::string> scenes, partitioners, refiners;
   std::vector<int> nmax, threads, scaling;
   int repeats = 0, steps = 0, every = 0;
-  bool no_scaling = false, no_plots = false, resume = false;
+  bool no_scaling = false, no_reference = false, no_plots = false, resume = false;
   std::string out;
 };
 
@@ -41,6 +41,7 @@ StudySpec study_spec(const Options& o, const CLI::App& cmd) {
   if (cmd.count("--threads")) spec.threads = o.threads;
   if (cmd.count("--scaling")) spec.scaling_rocks = o.scaling;
   if (o.no_scaling) spec.scaling_rocks.clear();
+  if (o.no_reference) spec.mindp_reference = false;
   if (cmd.count("--repeats")) spec.repeats = o.repeats;
   if (cmd.count("--steps")) {
     if (o.steps < 1) throw InputError("--steps: must be at least 1 (got " + std::to_string(o.steps) + ")");
@@ -92,6 +93,8 @@ Run add_bench(CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--scaling", o->scaling, "Rock counts of the Rock Pile scaling study (Figure 4)")->delimiter(',');
   cmd->add_flag("--no-scaling", o->no_scaling, "No scaling study");
+  cmd->add_flag("--no-reference", o->no_reference,
+                "Do not add unrefined MinDP, the paper's reference, unless listed (no vs MinDP column, claims not measured)");
   cmd->add_option("--repeats", o->repeats, "Solves per step and configuration; the median is kept");
   cmd->add_option("--steps", o->steps, "Steps simulated per scene (default: the preset's, else the scene's)");
   cmd->add_option("--every", o->every, "Record and replay every K-th step");

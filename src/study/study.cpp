@@ -74,6 +74,7 @@ nlohmann::ordered_json study_json(const StudySpec& spec) {
   study["steps"] = spec.steps > 0 ? nlohmann::ordered_json(spec.steps) : nlohmann::ordered_json("scene default");
   study["every"] = spec.every;
   study["repeats"] = spec.repeats;
+  study["mindp_reference"] = spec.mindp_reference;
   nlohmann::ordered_json partitioners = nlohmann::ordered_json::array(), refiners = nlohmann::ordered_json::array();
   for (const PartitionerKind p : spec.partitioners) partitioners.push_back(partitioner_name(p));
   for (const RefinerKind r : spec.refiners) refiners.push_back(refiner_name(r));
@@ -448,7 +449,7 @@ std::vector<StudyConfig> study_configs(const StudySpec& spec) {
   for (const int threads : spec.threads) {
     add({PartitionerKind::None, RefinerKind::None, 0, threads});
     for (const int nmax : spec.nmax) {
-      if (!mindp_none) add({PartitionerKind::MinDp, RefinerKind::None, nmax, threads});
+      if (spec.mindp_reference && !mindp_none) add({PartitionerKind::MinDp, RefinerKind::None, nmax, threads});
       for (const PartitionerKind p : spec.partitioners) {
         if (p == PartitionerKind::Metis) continue;
         for (const RefinerKind r : spec.refiners) add({p, r, nmax, threads});

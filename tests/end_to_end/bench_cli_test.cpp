@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "support/cli_test.hpp"
@@ -69,6 +70,26 @@ TEST_F(BenchCli, TinyStudyWritesItsTables) {
   }
   EXPECT_EQ(lines, 4);
   EXPECT_TRUE(mix_fm);
+}
+
+TEST_F(BenchCli, NoReferenceLeavesMinDpOut) {
+  const fs::path out = dir_ / "study";
+  const Result r = run("bench --scenes chain_drop:links=8 --partitioners mix --refine fm --nmax 3 --threads 1 "
+                       "--repeats 1 --steps 4 --no-scaling --no-reference --no-plots --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  // Header, the direct baseline and MIX+FM: no MinDP, and no change against it.
+  std::ifstream table(out / "table1.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(table, line)) {
+    ++lines;
+    EXPECT_EQ(line.find(",mindp,"), std::string::npos) << line;
+    if (line.find(",substructured,mix,fm,3,1,") != std::string::npos) EXPECT_NE(line.find(",nan,"), std::string::npos) << line;
+  }
+  EXPECT_EQ(lines, 3);
+  std::ifstream machine(out / "machine.json");
+  const std::string json((std::istreambuf_iterator<char>(machine)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"mindp_reference\": false"), std::string::npos);
 }
 
 }  // namespace
