@@ -46,7 +46,7 @@ class PositionProjection {
   Rows joint_rows_, contact_rows_, rows_;
   Islands islands_;
   // The solves' analyses and buffers: a projection's steps share their rows' pattern.
-  IslandCache island_cache_;
+  DirectCache island_cache_;
   std::vector<Vec6> move_, du_;  // per body: the projection so far, and this step's move
 };
 

@@ -20,7 +20,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
   // N's pattern follows from the bodies and each row's bodies: unchanged (a resting island assigned
   // again), it is not rebuilt.
   bool same_pattern = !n_.dense() && nb > dense_max_bodies && 6 * nb == n_.size() &&
-                      nr == static_cast<int>(body_.size()) && cliques.empty();
+                      nr == static_cast<int>(body_.size()) && cliques == cliques_;
   body_.resize(nr);
   normal_.resize(nr);
   for (int k = 0; k < nr; ++k) {
@@ -48,6 +48,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
     n_.keep_pattern();
     return;
   }
+  cliques_ = cliques;
   assign_pattern(cliques, dense_max_bodies);
   diagonal_.resize(nb);
   for (int b = 0; b < nb; ++b) diagonal_[b] = n_.slot(b, b);

@@ -78,6 +78,7 @@ class BodySpaceSystem {
   std::vector<std::array<int, 2>> body_;  // local body per slot of each local row, -1 = none
   std::vector<int> normal_;               // local row of a row's normal, -1 if none
   std::vector<Mat6> mass_;                // per local body
+  std::vector<std::vector<int>> cliques_;  // assign()'s, part of the pattern
   // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per run of
   // consecutive rows on the same bodies (a contact's three rows, a manifold's contacts), starting
   // at local row run_start_[i], the blocks (slot p, slot q) of their J_p^T J_q (index 2p + q;

@@ -21,9 +21,10 @@ class IslandChunks {
   // loop against ~5 ns a row), while each chunk's own time is what the critical path needs.
   static constexpr int kMinParallelItems = 4096;
 
-  // Loops split into `chunks` equal ranges (at least one).
+  // Loops split into `chunks` equal ranges (at least one) from here on; the tallies below restart.
   void set_count(int chunks) {
     count_ = std::max(1, chunks);
+    work_ms = critical_path_ms = wall_ms = 0;
     ms_.assign(count_, 0.0);
     low_.assign(count_, 0.0);
   }

@@ -8,13 +8,13 @@
 namespace rbpart {
 
 SolveStats solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
-                               IslandCache* cache) {
+                               DirectCache* cache) {
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<NewtonResult> outcome(islands.count());
-  IslandCache this_step;
-  const std::vector<IslandSlot*> slots = (cache ? *cache : this_step).slots_for(islands);
+  DirectCache this_step;
+  const std::vector<IslandSlot<MonolithicSystem>*> slots = (cache ? *cache : this_step).slots_for(islands);
   for_each_island(islands, [&](int i) {
-    IslandSlot& slot = *slots[i];
+    IslandSlot<MonolithicSystem>& slot = *slots[i];
     slot.system.gather(rows, bodies, islands, i, local_row);
     slot.backend.assign(slot.system, params.dense_max_bodies);
     outcome[i] = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);

@@ -1,6 +1,7 @@
 #include "solve/newton_substructured.hpp"
 
 #include "core/timer.hpp"
+#include "solve/island_cache.hpp"
 #include "solve/island_parts.hpp"
 #include "solve/island_system.hpp"
 #include "solve/newton_island.hpp"
@@ -27,19 +28,22 @@ struct IslandOutcome {
 
 NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
                                                      const ConstraintGraph& graph, const Partition& partition,
-                                                     const SolverParams& params) {
+                                                     const SolverParams& params, SubstructuredCache* cache) {
   if (static_cast<int>(partition.part_of.size()) != graph.node_count())
     throw std::invalid_argument("solve_newton_substructured: the partition does not cover the graph's nodes");
   const std::vector<int> local_row = local_row_index(rows, islands);
   std::vector<IslandOutcome> outcome(islands.count());
+  SubstructuredCache this_step;
+  const std::vector<IslandSlot<SubstructuredSystem>*> slots = (cache ? *cache : this_step).slots_for(islands);
   for_each_island(islands, [&](int i) {
     const Timer wall;
-    IslandSystem s;
+    IslandSlot<SubstructuredSystem>& slot = *slots[i];
+    IslandSystem& s = slot.system;
     s.gather(rows, bodies, islands, i, local_row);
-    SubstructuredSystem system;
+    SubstructuredSystem& system = slot.backend;
     system.assign(s, island_parts(s, graph, partition), params.dense_max_bodies);
     IslandOutcome& o = outcome[i];
-    NewtonWorkspace ws;
+    NewtonWorkspace& ws = slot.workspace;
     ws.chunks.set_count(std::min(system.parts(), s.rows / kMinRowsPerChunk));
     o.newton = solve_island_newton(s, system, params.max_factorizations, rows, ws);
     o.parts = system.parts();

@@ -14,6 +14,11 @@
 
 namespace rbpart {
 
+template <class Backend>
+class IslandCache;
+class SubstructuredSystem;
+using SubstructuredCache = IslandCache<SubstructuredSystem>;
+
 struct NewtonSubstructuredReport {
   // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases, the
   // Newton iteration's own loops over rows and bodies (in one chunk per part) and each island's
@@ -29,9 +34,11 @@ struct NewtonSubstructuredReport {
 // Solves every island's coupled problem and writes impulses, states and final friction bounds into
 // `rows`, warm started from rows.lambda/state, as solve_newton_direct does. `graph` maps scene
 // bodies to nodes and `partition` gives every node a part (any assignment is valid; parts need not be
-// connected). Needs sigma_j > 0 on every row, as the monolithic backend does.
+// connected). Needs sigma_j > 0 on every row, as the monolithic backend does. With `cache`
+// (solve/island_cache.hpp), the islands' parts keep their analyses and buffers to the next call
+// where their patterns hold.
 NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
                                                      const ConstraintGraph& graph, const Partition& partition,
-                                                     const SolverParams& params);
+                                                     const SolverParams& params, SubstructuredCache* cache = nullptr);
 
 }  // namespace rbpart

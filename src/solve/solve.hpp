@@ -12,13 +12,15 @@
 
 namespace rbpart {
 
+template <class Backend>
 class IslandCache;
+class MonolithicSystem;
 
 // The direct solver: the Newton solver on the coupled problem (solve/newton.hpp) with the monolithic
 // body-space backend (solve/monolithic.hpp); islands in parallel. With `cache`
 // (solve/island_cache.hpp), the islands' analyses and buffers carry over to the next call.
 SolveStats solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
-                               IslandCache* cache = nullptr);
+                               IslandCache<MonolithicSystem>* cache = nullptr);
 
 // Projected Gauss-Seidel on the same rows (the iterative baseline).
 SolveStats solve_pgs(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params);

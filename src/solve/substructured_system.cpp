@@ -43,8 +43,12 @@ void SubstructuredSystem::finish_call(double wall_ms) {
 }
 
 void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& part_of_body, int dense_max_bodies) {
+  const Timer wall;
+  last_ = total_ = SubstructuredCost{};
   const int part_count = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
-  parts_ = std::vector<Part>(part_count);
+  // As many parts as at the last assign() (a resting island): each keeps its pattern and analyses
+  // where these hold.
+  if (static_cast<int>(parts_.size()) != part_count) parts_ = std::vector<Part>(part_count);
   // Rows by the parts of their bodies: {i, i} a sub-system row of part i, {i, k} an interface row
   // between parts i and k (by slot).
   std::vector<std::array<int, 2>> group(s.rows);
@@ -71,11 +75,11 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
   std::vector<int> interface_bodies;
   for (int b = 0; b < s.bodies; ++b)
     if (boundary[b]) interface_bodies.push_back(b);
-  const std::vector<Mat6> mass = body_masses(s);
   std::vector<std::vector<int>> cliques(part_count);
   for (int i = 0; i < part_count; ++i) {
     Part& p = parts_[i];
     if (bodies[i].empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
+    p.ok = p.refactored = false;
     // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
     std::stable_partition(bodies[i].begin(), bodies[i].end(), [&](int b) { return !boundary[b]; });
     p.interior = 0;
@@ -89,18 +93,25 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
                                                interface_bodies.begin()));
       cliques[i].push_back(p.boundary_at.back());
     }
+  }
+  // The patterns, the parts' in parallel (a large part's takes milliseconds).
+  const std::vector<Mat6> mass = body_masses(s);
+  for_parts([&](Part& p) {
+    const int i = static_cast<int>(&p - parts_.data());
     p.n.assign(s, std::move(bodies[i]), rows[i], mass, dense_max_bodies);
-  }
-  // S carries no mass of its own: the parts' blocks hold it.
-  interface_.assign(s, std::move(interface_bodies), std::move(interface_rows), std::vector<Mat6>(s.bodies, Mat6::Zero()),
-                    dense_max_bodies, cliques);
-  for (Part& p : parts_) {
-    p.schur_at.clear();
-    for (const int c : p.boundary_at)
-      for (const int r : p.boundary_at) p.schur_at.push_back(interface_.slot(r, c));
-  }
+  });
+  serial([&] {
+    // S carries no mass of its own: the parts' blocks hold it.
+    interface_.assign(s, std::move(interface_bodies), std::move(interface_rows),
+                      std::vector<Mat6>(s.bodies, Mat6::Zero()), dense_max_bodies, cliques);
+    for (Part& p : parts_) {
+      p.schur_at.clear();
+      for (const int c : p.boundary_at)
+        for (const int r : p.boundary_at) p.schur_at.push_back(interface_.slot(r, c));
+    }
+  });
   r_.resize(6 * interface_.bodies());
-  last_ = total_ = SubstructuredCost{};
+  finish_call(wall.ms());
 }
 
 void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {

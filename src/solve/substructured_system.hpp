@@ -44,7 +44,7 @@
 
 namespace rbpart {
 
-// Cost of factor() and solve() calls, in ms. Work sums every part's time in the parallel phases
+// Cost of assign(), factor() and solve() calls, in ms. Work sums every part's time in the parallel phases
 // and the serial interface phases; the critical path replaces every parallel phase by its slowest
 // part (the time on unlimited cores); wall is the calls' wall time.
 struct SubstructuredCost {
@@ -64,7 +64,7 @@ class SubstructuredSystem final : public LinearSystem {
   int parts() const { return static_cast<int>(parts_.size()); }
   int interface_rows() const { return interface_rows_; }
   int interface_bodies() const { return interface_.bodies(); }
-  // The last factor() or solve() call, and all calls since assign().
+  // The last assign(), factor() or solve() call, and assign() with all calls since.
   const SubstructuredCost& last() const { return last_; }
   const SubstructuredCost& total() const { return total_; }
 
@@ -91,7 +91,7 @@ class SubstructuredSystem final : public LinearSystem {
   // Runs fn() as serial work.
   template <class Fn>
   void serial(Fn&& fn);
-  // Ends a factor() or solve() call of wall time `wall_ms`: adds last() to total().
+  // Ends an assign(), factor() or solve() call of wall time `wall_ms`: adds last() to total().
   void finish_call(double wall_ms);
 
   std::vector<Part> parts_;

@@ -48,7 +48,9 @@ struct World::Impl {
   WarmStart warm;
   ProjectStage project;
   Islands islands;
-  IslandCache island_cache;  // the direct solver's per-island analyses and buffers, step to step
+  // The solvers' per-island analyses and buffers, step to step.
+  DirectCache direct_cache;
+  SubstructuredCache substructured_cache;
   ConstraintGraph graph_;
   Partition partition_;
   StepStats stats;
@@ -187,10 +189,11 @@ struct World::Impl {
     switch (solver_params.kind) {
       case SolverKind::Pgs: return solve_pgs(rows, bodies, islands, solver_params);
       case SolverKind::Substructured:
-        return solve_newton_substructured(rows, bodies, islands, graph_, partition_, solver_params).solve;
+        return solve_newton_substructured(rows, bodies, islands, graph_, partition_, solver_params,
+                                          &substructured_cache).solve;
       case SolverKind::Direct: break;
     }
-    return solve_newton_direct(rows, bodies, islands, solver_params, &island_cache);
+    return solve_newton_direct(rows, bodies, islands, solver_params, &direct_cache);
   }
 
   void integrate() {

@@ -27,11 +27,11 @@ Islands islands_of(const std::vector<std::vector<int>>& bodies) {
 }
 
 TEST(IslandCache, AnIslandKeepsTheSlotOfItsFirstBody) {
-  IslandCache cache;
-  const std::vector<IslandSlot*> first = cache.slots_for(islands_of({{3, 5}, {7}}));
+  DirectCache cache;
+  const std::vector<IslandSlot<MonolithicSystem>*> first = cache.slots_for(islands_of({{3, 5}, {7}}));
   ASSERT_EQ(first.size(), 2u);
   EXPECT_NE(first[0], first[1]);
-  const std::vector<IslandSlot*> second = cache.slots_for(islands_of({{1}, {7, 8}, {3}}));
+  const std::vector<IslandSlot<MonolithicSystem>*> second = cache.slots_for(islands_of({{1}, {7, 8}, {3}}));
   ASSERT_EQ(second.size(), 3u);
   EXPECT_EQ(second[1], first[1]);  // body 7 still first: the same slot
   EXPECT_EQ(second[2], first[0]);  // body 3 lost body 5: the same slot, its pattern to be rebuilt
