@@ -94,6 +94,8 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
       cliques[i].push_back(p.boundary_at.back());
     }
   }
+  // The split so far is serial work.
+  last_.work_ms = last_.critical_path_ms = wall.ms();
   // The patterns, the parts' in parallel (a large part's takes milliseconds).
   const std::vector<Mat6> mass = body_masses(s);
   for_parts([&](Part& p) {
