@@ -17,7 +17,6 @@ namespace rbpart {
 template <class Backend>
 class IslandCache;
 class SubstructuredSystem;
-using SubstructuredCache = IslandCache<SubstructuredSystem>;
 
 struct NewtonSubstructuredReport {
   // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases, the
@@ -39,6 +38,7 @@ struct NewtonSubstructuredReport {
 // where their patterns hold.
 NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
                                                      const ConstraintGraph& graph, const Partition& partition,
-                                                     const SolverParams& params, SubstructuredCache* cache = nullptr);
+                                                     const SolverParams& params,
+                                                     IslandCache<SubstructuredSystem>* cache = nullptr);
 
 }  // namespace rbpart
