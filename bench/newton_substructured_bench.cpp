@@ -126,8 +126,10 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
   pp.nmax = 32;
   Partition partition;
   partition_graph(p.step.graph, pp, partition);
+  std::vector<int> part_of_body, distinct;
+  island_parts(p.island, p.step.graph, partition, part_of_body, distinct);
   SubstructuredSystem system;
-  system.assign(p.island, island_parts(p.island, p.step.graph, partition), SolverParams{}.dense_max_bodies);
+  system.assign(p.island, part_of_body, SolverParams{}.dense_max_bodies);
   const std::vector<const Piece*> pieces = sequence(p, all_parts);
   system.factor(p.nudged.back());  // the symbolic analyses, untimed, and a state unlike the first
   SubstructuredCost sum;

@@ -5,12 +5,12 @@
 
 namespace rbpart {
 
-void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows,
+void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodies, const std::vector<int>& rows,
                              const std::vector<Mat6>& mass, int dense_max_bodies,
                              const std::vector<std::vector<int>>& cliques) {
   s_ = &s;
-  bodies_ = std::move(bodies);
-  rows_ = std::move(rows);
+  bodies_ = bodies;
+  rows_ = rows;
   const int nb = this->bodies(), nr = static_cast<int>(rows_.size());
   by_body_.resize(nb);
   for (int b = 0; b < nb; ++b) by_body_[b] = {bodies_[b], b};
@@ -67,9 +67,9 @@ void BodySpaceSystem::assign(const IslandSystem& s, std::vector<int> bodies, std
 }
 
 void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies) {
-  const int nb = bodies(), nr = static_cast<int>(rows_.size());
-  std::vector<std::array<int, 2>> pairs;
-  pairs.reserve(2 * nr + nb);
+  const int nb = bodies();
+  std::vector<std::array<int, 2>>& pairs = pairs_;
+  pairs.clear();
   for (int b = 0; b < nb; ++b) pairs.push_back({b, b});
   for (const auto& slot : body_)
     if (slot[1] >= 0) {

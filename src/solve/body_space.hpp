@@ -30,8 +30,9 @@ class BodySpaceSystem {
   // the solves. `cliques` (positions among `bodies`) add blocks between every two bodies of each to
   // N's pattern, for terms the caller adds between assemble() and factor_assembled() (the
   // substructured backend's interface).
-  void assign(const IslandSystem& s, std::vector<int> bodies, std::vector<int> rows, const std::vector<Mat6>& mass,
-              int dense_max_bodies, const std::vector<std::vector<int>>& cliques = {});
+  // Assigned again, it reuses its buffers' capacity, and N's pattern when that is unchanged.
+  void assign(const IslandSystem& s, const std::vector<int>& bodies, const std::vector<int>& rows,
+              const std::vector<Mat6>& mass, int dense_max_bodies, const std::vector<std::vector<int>>& cliques = {});
 
   int bodies() const { return static_cast<int>(bodies_.size()); }
   // Position of island body b among the bodies (b must be one of them).
@@ -79,6 +80,7 @@ class BodySpaceSystem {
   std::vector<int> normal_;               // local row of a row's normal, -1 if none
   std::vector<Mat6> mass_;                // per local body
   std::vector<std::vector<int>> cliques_;  // assign()'s, part of the pattern
+  std::vector<std::array<int, 2>> pairs_;  // assign_pattern()'s scratch: N's adjacent blocks
   // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per run of
   // consecutive rows on the same bodies (a contact's three rows, a manifold's contacts), starting
   // at local row run_start_[i], the blocks (slot p, slot q) of their J_p^T J_q (index 2p + q;

@@ -64,7 +64,7 @@ double step_to_boundary(const InteriorPoint::Sides& has, const Eigen::VectorXd& 
 
 }  // namespace
 
-void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) {
+void InteriorPoint::start(const IslandSystem& s) {
   s_ = &s;
   const int n = s.rows;
   has_.closed.resize(n);
@@ -76,9 +76,8 @@ void InteriorPoint::start(const IslandSystem& s, const Eigen::VectorXd& lambda) 
     has_.hi[j] = !has_.closed[j] && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j]));
   }
   const double scale = std::max(max_abs(s.q), 1e-12);
-  lambda_ = lambda;
+  lambda_.setZero(n);
   for (int j = 0; j < n; ++j) {
-    if (!std::isfinite(lambda_[j])) lambda_[j] = 0;
     if (has_.closed[j]) lambda_[j] = s.normal_of[j] >= 0 ? 0.0 : s.lo[j];
     if (s.normal_of[j] >= 0 || has_.closed[j]) continue;
     const double margin = 0.1 * scale / s.diag[j];

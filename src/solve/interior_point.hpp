@@ -25,9 +25,10 @@ namespace rbpart {
 // between two interior-point steps.
 class InteriorPoint {
  public:
-  // Moves `lambda` into the interior (normals and bounded rows a tenth of the island's free
-  // velocity scale away from their bounds, friction inside half its box) and sets the multipliers.
-  void start(const IslandSystem& s, const Eigen::VectorXd& lambda);
+  // A cold start: lambda = 0 moved into the interior (normals and bounded rows a tenth of the
+  // island's free velocity scale away from their bounds, friction inside half its box), and the
+  // multipliers. (Warm starts were measured and not kept: newton/experiments/.)
+  void start(const IslandSystem& s);
   // One predictor-corrector step (one factorisation); returns its length in (0, 1], or 0 if the
   // system failed to factor, the step is not finite, or complementarity is met to round-off (no
   // step is then taken).

@@ -5,8 +5,9 @@
 namespace rbpart {
 
 template <class Backend>
-std::vector<IslandSlot<Backend>*> IslandCache<Backend>::slots_for(const Islands& islands) {
-  std::vector<IslandSlot<Backend>*> slots(islands.count());
+const std::vector<IslandSlot<Backend>*>& IslandCache<Backend>::slots_for(const Islands& islands) {
+  std::vector<IslandSlot<Backend>*>& slots = current_;
+  slots.resize(islands.count());
   for (std::size_t i = 0; i < islands.count(); ++i) {
     const bool empty = islands.body_offset[i] == islands.body_offset[i + 1];
     const int first = empty ? -1 - static_cast<int>(i) : islands.bodies[islands.body_offset[i]];

@@ -4,15 +4,16 @@
 
 namespace rbpart {
 
-std::vector<int> island_parts(const IslandSystem& s, const ConstraintGraph& graph, const Partition& partition) {
-  std::vector<int> part_of_body(s.bodies), ids(s.bodies);
-  for (int b = 0; b < s.bodies; ++b) ids[b] = partition.part_of[graph.node_of[s.global_bodies[b]]];
-  std::vector<int> distinct = ids;
+void island_parts(const IslandSystem& s, const ConstraintGraph& graph, const Partition& partition,
+                  std::vector<int>& part_of_body, std::vector<int>& distinct) {
+  const auto id = [&](int b) { return partition.part_of[graph.node_of[s.global_bodies[b]]]; };
+  distinct.resize(s.bodies);
+  for (int b = 0; b < s.bodies; ++b) distinct[b] = id(b);
   std::sort(distinct.begin(), distinct.end());
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  part_of_body.resize(s.bodies);
   for (int b = 0; b < s.bodies; ++b)
-    part_of_body[b] = static_cast<int>(std::lower_bound(distinct.begin(), distinct.end(), ids[b]) - distinct.begin());
-  return part_of_body;
+    part_of_body[b] = static_cast<int>(std::lower_bound(distinct.begin(), distinct.end(), id(b)) - distinct.begin());
 }
 
 }  // namespace rbpart

@@ -10,7 +10,9 @@
 
 namespace rbpart {
 
-// Island body -> part 0..P-1; every part in 0..P-1 has a body.
-std::vector<int> island_parts(const IslandSystem& s, const ConstraintGraph& graph, const Partition& partition);
+// Island body -> part 0..P-1 into `part_of_body`; every part in 0..P-1 has a body. `distinct`
+// (the island's part ids) is scratch; both keep their capacity.
+void island_parts(const IslandSystem& s, const ConstraintGraph& graph, const Partition& partition,
+                  std::vector<int>& part_of_body, std::vector<int>& distinct);
 
 }  // namespace rbpart

@@ -68,26 +68,36 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
   }
   for (int b = 0; b < bodies; ++b) body_slot_offset[b + 1] += body_slot_offset[b];
   body_slots.resize(body_slot_offset[bodies]);
-  std::vector<int> fill(body_slot_offset.begin(), body_slot_offset.end() - 1);
+  slot_fill.assign(body_slot_offset.begin(), body_slot_offset.end() - 1);
   for (int r = 0; r < rows; ++r)
     for (int slot = 0; slot < 2; ++slot)
-      if (body[r][slot] >= 0) body_slots[fill[body[r][slot]]++] = 2 * r + slot;
+      if (body[r][slot] >= 0) body_slots[slot_fill[body[r][slot]]++] = 2 * r + slot;
+}
+
+void largest_islands_first(const Islands& islands, std::vector<int>& order) {
+  order.resize(islands.count());
+  std::iota(order.begin(), order.end(), 0);
+  // Ties by index, as a stable sort would leave them (std::stable_sort allocates its buffer).
+  const auto rows = [&](int i) { return islands.row_offset[i + 1] - islands.row_offset[i]; };
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return rows(x) > rows(y) || (rows(x) == rows(y) && x < y); });
 }
 
 std::vector<int> largest_islands_first(const Islands& islands) {
-  std::vector<int> order(islands.count());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return islands.row_offset[x + 1] - islands.row_offset[x] > islands.row_offset[y + 1] - islands.row_offset[y];
-  });
+  std::vector<int> order;
+  largest_islands_first(islands, order);
   return order;
 }
 
-std::vector<int> local_row_index(const Rows& rows, const Islands& islands) {
-  std::vector<int> local(rows.size(), -1);
+void local_row_index(const Rows& rows, const Islands& islands, std::vector<int>& local) {
+  local.assign(rows.size(), -1);
   for (std::size_t i = 0; i < islands.count(); ++i)
     for (int k = islands.row_offset[i]; k < islands.row_offset[i + 1]; ++k)
       local[islands.rows[k]] = k - islands.row_offset[i];
+}
+
+std::vector<int> local_row_index(const Rows& rows, const Islands& islands) {
+  std::vector<int> local;
+  local_row_index(rows, islands, local);
   return local;
 }
 
@@ -106,14 +116,13 @@ void build_dense(const IslandSystem& s, Eigen::MatrixXd& a) {
   a.triangularView<Eigen::StrictlyUpper>() = a.transpose();
 }
 
-std::vector<Mat6> body_masses(const IslandSystem& s) {
-  std::vector<Mat6> mass(s.bodies);
+void body_masses(const IslandSystem& s, std::vector<Mat6>& mass) {
+  mass.resize(s.bodies);
   for (int b = 0; b < s.bodies; ++b) {
     mass[b].setZero();
     mass[b].topLeftCorner<3, 3>().diagonal().setConstant(1.0 / s.inv_mass[b]);
     mass[b].bottomRightCorner<3, 3>() = s.inv_inertia[b].inverse();
   }
-  return mass;
 }
 
 void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, IslandChunks& chunks) {

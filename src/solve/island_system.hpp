@@ -31,6 +31,7 @@ struct IslandSystem {
   std::vector<double> mu;
   // Row slots per body (CSR): entries r * 2 + slot, rows increasing.
   std::vector<int> body_slot_offset, body_slots;
+  std::vector<int> slot_fill;  // gather()'s scratch, kept so that gathering again allocates nothing
 
   // Gathers island `island`. `local_row` must map every Rows index of the island to its local
   // index (the caller fills it for all islands at once; islands own disjoint rows). A row whose two
@@ -45,14 +46,16 @@ struct IslandSystem {
 void build_dense(const IslandSystem& s, Eigen::MatrixXd& a);
 
 // Island indices by decreasing row count (ties by index), so that one big island does not start
-// last on a busy thread when islands are solved in parallel.
+// last on a busy thread when islands are solved in parallel. Into `order`, whose capacity it reuses.
+void largest_islands_first(const Islands& islands, std::vector<int>& order);
 std::vector<int> largest_islands_first(const Islands& islands);
 
 // Local index of every row within its island (-1 for rows in no island), for IslandSystem::gather.
+void local_row_index(const Rows& rows, const Islands& islands, std::vector<int>& local);
 std::vector<int> local_row_index(const Rows& rows, const Islands& islands);
 
 // M of every body of the island: (m I3, I_world), the inverse of its M^-1 blocks.
-std::vector<Mat6> body_masses(const IslandSystem& s);
+void body_masses(const IslandSystem& s, std::vector<Mat6>& mass);
 
 // du = M^-1 J^T x per body (6 * bodies entries: linear, angular); by bodies in `chunks`.
 void apply_mjt(const IslandSystem& s, const Eigen::VectorXd& x, Eigen::VectorXd& du, IslandChunks& chunks);

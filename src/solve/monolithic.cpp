@@ -5,10 +5,12 @@
 namespace rbpart {
 
 void MonolithicSystem::assign(const IslandSystem& s, int dense_max_bodies) {
-  std::vector<int> bodies(s.bodies), rows(s.rows);
-  std::iota(bodies.begin(), bodies.end(), 0);
-  std::iota(rows.begin(), rows.end(), 0);
-  n_.assign(s, std::move(bodies), std::move(rows), body_masses(s), dense_max_bodies);
+  bodies_.resize(s.bodies);
+  rows_.resize(s.rows);
+  std::iota(bodies_.begin(), bodies_.end(), 0);
+  std::iota(rows_.begin(), rows_.end(), 0);
+  body_masses(s, mass_);
+  n_.assign(s, bodies_, rows_, mass_, dense_max_bodies);
   h_.resize(6 * s.bodies);
 }
 

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace rbpart {
 
 class MonolithicSystem final : public LinearSystem {
@@ -21,6 +23,8 @@ class MonolithicSystem final : public LinearSystem {
  private:
   BodySpaceSystem n_;
   Eigen::VectorXd h_;
+  std::vector<int> bodies_, rows_;  // 0..n-1: N holds every body and row of the island
+  std::vector<Mat6> mass_;
 };
 
 }  // namespace rbpart

@@ -265,7 +265,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
   // indicates (interior_point.hpp); when that state is the one of the step before (and not tried
   // yet), Newton steps from its iterate, the first in that state.
   if (!settled()) {
-    ws.ipm.start(s, Eigen::VectorXd::Zero(s.rows));
+    ws.ipm.start(s);
     ws.ipm_state.clear();
     ws.tried_state.clear();
     while (!settled()) {

@@ -9,19 +9,19 @@ namespace rbpart {
 
 SolveStats solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& islands, const SolverParams& params,
                                DirectCache* cache) {
-  const std::vector<int> local_row = local_row_index(rows, islands);
-  std::vector<NewtonResult> outcome(islands.count());
   DirectCache this_step;
-  const std::vector<IslandSlot<MonolithicSystem>*> slots = (cache ? *cache : this_step).slots_for(islands);
-  for_each_island(islands, [&](int i) {
+  DirectCache& kept = cache ? *cache : this_step;
+  local_row_index(rows, islands, kept.local_row);
+  const std::vector<IslandSlot<MonolithicSystem>*>& slots = kept.slots_for(islands);
+  for_each_island(islands, kept.island_order, [&](int i) {
     IslandSlot<MonolithicSystem>& slot = *slots[i];
-    slot.system.gather(rows, bodies, islands, i, local_row);
+    slot.system.gather(rows, bodies, islands, i, kept.local_row);
     slot.backend.assign(slot.system, params.dense_max_bodies);
-    outcome[i] = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);
+    slot.result = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);
   });
 
   SolveStats stats;
-  for (const NewtonResult& o : outcome) add_island_result(o, stats);
+  for (const IslandSlot<MonolithicSystem>* slot : slots) add_island_result(slot->result, stats);
   return stats;
 }
 

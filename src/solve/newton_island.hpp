@@ -12,10 +12,11 @@
 
 namespace rbpart {
 
-// Calls fn(island) for every island, islands in parallel, the largest first.
+// Calls fn(island) for every island, islands in parallel, the largest first (`order`: the
+// caller's buffer for that order).
 template <class Fn>
-void for_each_island(const Islands& islands, Fn&& fn) {
-  const std::vector<int> order = largest_islands_first(islands);
+void for_each_island(const Islands& islands, std::vector<int>& order, Fn&& fn) {
+  largest_islands_first(islands, order);
   parallel_for_each(islands.count(), [&](std::size_t t) { fn(order[t]); });
 }
 

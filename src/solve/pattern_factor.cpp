@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "core/validate.hpp"
 #include "solve/solve_check.hpp"
@@ -139,7 +140,10 @@ void PatternFactor::forward_interior(double* b) {
   const int k = n_ - interior_;
   Eigen::Map<Eigen::VectorXd> b_i(b, interior_), b_k(b + interior_, k);
   if (interior_ == 0) return;
-  b_i = plu_.permutationP() * b_i;
+  // P b_I through a kept buffer: an in-place permutation allocates a mask.
+  permuted_.resize(interior_);
+  permuted_.noalias() = plu_.permutationP() * b_i;
+  b_i = permuted_;
   plu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(b_i);
   if (k > 0) b_k.noalias() -= l_ki_ * b_i;
 }
@@ -167,10 +171,19 @@ void PatternFactor::solve(double* x, int columns) {
   if (dense_) {
     Eigen::MatrixXd rhs;
     if constexpr (kValidate) rhs = Eigen::Map<const Eigen::MatrixXd>(x, n_, columns);
-    // PartialPivLU's solve permutes and substitutes in place when its result aliases its argument.
+    // PartialPivLU's solve, step by step: P b into a kept buffer (its own in-place permutation of
+    // an aliased result allocates a mask), then the same two triangular solves.
     const auto dense_solve = [&](auto&& b) {
-      if (lu_) b = plu_.solve(b);
-      else llt_.solveInPlace(b);
+      if (!lu_) {
+        llt_.solveInPlace(b);
+        return;
+      }
+      permuted_.resize(b.size());
+      std::decay_t<decltype(b)> p(permuted_.data(), b.rows(), b.cols());
+      p.noalias() = plu_.permutationP() * b;
+      plu_.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(p);
+      plu_.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(p);
+      b = p;
     };
     // One column through Eigen's vector kernels, as a plain dense solve: the blocked matrix kernels
     // round differently, and Newton's path can turn on round-off (resting stacks).

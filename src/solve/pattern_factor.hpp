@@ -87,6 +87,7 @@ class PatternFactor {
   Eigen::MatrixXd dense_values_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::PartialPivLU<Eigen::MatrixXd> plu_;
+  Eigen::VectorXd permuted_;  // P b of solve() and forward_interior(), dense
 };
 
 }  // namespace rbpart

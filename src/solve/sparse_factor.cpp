@@ -175,6 +175,7 @@ struct KluFactor::Impl {
   std::vector<int> order;  // analyze(a, interior): the elimination order
   mutable std::vector<double> work;
   std::vector<int> trailing_entries;  // analyze(a, interior): the entries in K's rows
+  Eigen::MatrixXd l, u, lu;           // trailing_schur()'s L_KK, U_KK and their product
 };
 
 KluFactor::KluFactor() : impl_(std::make_unique<Impl>()) {
@@ -246,7 +247,9 @@ bool KluFactor::trailing_schur(double* schur) {
   // L_KK U_KK (L's unit diagonal included) is the Schur complement with its rows in pivot order:
   // row r of the product is row pivot_row[from + r] of A.
   const double* u_diagonal = static_cast<const double*>(m.numeric->Udiag);
-  Eigen::MatrixXd l = Eigen::MatrixXd::Identity(k, k), u = Eigen::MatrixXd::Zero(k, k);
+  Eigen::MatrixXd &l = m.l, &u = m.u;
+  l.setIdentity(k, k);
+  u.setZero(k, k);
   for (int c = from; c < n; ++c) {
     const KluColumn lc = klu_column(m.numeric, m.numeric->Lip, m.numeric->Llen, c);
     for (int e = 0; e < lc.size; ++e) l(lc.row[e] - from, c - from) = lc.value[e];
@@ -255,9 +258,10 @@ bool KluFactor::trailing_schur(double* schur) {
       if (uc.row[e] >= from) u(uc.row[e] - from, c - from) = uc.value[e];
     u(c - from, c - from) = u_diagonal[c];
   }
-  const Eigen::MatrixXd product = l * u;
+  m.lu.resize(k, k);
+  m.lu.noalias() = l * u;
   Eigen::Map<Eigen::MatrixXd> out(schur, k, k);
-  for (int r = 0; r < k; ++r) out.row(pivot_row[from + r] - from) = product.row(r) / kTrailingScale;
+  for (int r = 0; r < k; ++r) out.row(pivot_row[from + r] - from) = m.lu.row(r) / kTrailingScale;
   return true;
 }
 

@@ -50,62 +50,67 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
   // where these hold.
   if (static_cast<int>(parts_.size()) != part_count) parts_ = std::vector<Part>(part_count);
   // Rows by the parts of their bodies: {i, i} a sub-system row of part i, {i, k} an interface row
-  // between parts i and k (by slot).
-  std::vector<std::array<int, 2>> group(s.rows);
-  std::vector<std::vector<int>> bodies(part_count), rows(part_count);
-  std::vector<int> interface_rows;
-  std::vector<char> boundary(s.bodies, 0);
-  for (int b = 0; b < s.bodies; ++b) bodies[part_of_body[b]].push_back(b);
+  // between parts i and k (by slot). The split's buffers keep their capacity from call to call.
+  Split& split = split_;
+  split.group.resize(s.rows);
+  for (std::vector<std::vector<int>>* lists : {&split.bodies, &split.rows, &split.cliques}) {
+    lists->resize(part_count);
+    for (std::vector<int>& list : *lists) list.clear();
+  }
+  split.interface_rows.clear();
+  split.interface_bodies.clear();
+  split.boundary.assign(s.bodies, 0);
+  for (int b = 0; b < s.bodies; ++b) split.bodies[part_of_body[b]].push_back(b);
   for (int j = 0; j < s.rows; ++j) {
+    std::array<int, 2>& group = split.group[j];
     const int first = part_of_body[s.body[j][0]];
-    group[j] = {first, s.body[j][1] < 0 ? first : part_of_body[s.body[j][1]]};
-    if (group[j][0] == group[j][1]) {
-      rows[first].push_back(j);
+    group = {first, s.body[j][1] < 0 ? first : part_of_body[s.body[j][1]]};
+    if (group[0] == group[1]) {
+      split.rows[first].push_back(j);
     } else {
-      interface_rows.push_back(j);
-      boundary[s.body[j][0]] = boundary[s.body[j][1]] = 1;
+      split.interface_rows.push_back(j);
+      split.boundary[s.body[j][0]] = split.boundary[s.body[j][1]] = 1;
     }
   }
   for (int j = 0; j < s.rows; ++j) {
     const int n = s.normal_of[j];
-    if (n >= 0 && std::minmax(group[j][0], group[j][1]) != std::minmax(group[n][0], group[n][1]))
+    if (n >= 0 && std::minmax(split.group[j][0], split.group[j][1]) != std::minmax(split.group[n][0], split.group[n][1]))
       throw std::invalid_argument("SubstructuredSystem: a friction row and its normal lie in different parts");
   }
-  interface_rows_ = static_cast<int>(interface_rows.size());
-  std::vector<int> interface_bodies;
+  interface_rows_ = static_cast<int>(split.interface_rows.size());
   for (int b = 0; b < s.bodies; ++b)
-    if (boundary[b]) interface_bodies.push_back(b);
-  std::vector<std::vector<int>> cliques(part_count);
+    if (split.boundary[b]) split.interface_bodies.push_back(b);
   for (int i = 0; i < part_count; ++i) {
     Part& p = parts_[i];
-    if (bodies[i].empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
+    std::vector<int>& bodies = split.bodies[i];
+    if (bodies.empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
     p.ok = p.refactored = false;
     // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
-    std::stable_partition(bodies[i].begin(), bodies[i].end(), [&](int b) { return !boundary[b]; });
-    p.interior = 0;
+    // (std::stable_partition would allocate its buffer.)
+    const auto boundary = std::partition(bodies.begin(), bodies.end(), [&](int b) { return !split.boundary[b]; });
+    std::sort(bodies.begin(), boundary);
+    std::sort(boundary, bodies.end());
+    p.interior = static_cast<int>(boundary - bodies.begin());
     p.boundary_at.clear();
-    for (const int b : bodies[i]) {
-      if (!boundary[b]) {
-        ++p.interior;
-        continue;
-      }
-      p.boundary_at.push_back(static_cast<int>(std::lower_bound(interface_bodies.begin(), interface_bodies.end(), b) -
-                                               interface_bodies.begin()));
-      cliques[i].push_back(p.boundary_at.back());
+    for (auto b = boundary; b != bodies.end(); ++b) {
+      p.boundary_at.push_back(static_cast<int>(
+          std::lower_bound(split.interface_bodies.begin(), split.interface_bodies.end(), *b) -
+          split.interface_bodies.begin()));
+      split.cliques[i].push_back(p.boundary_at.back());
     }
   }
   // The split so far is serial work.
   last_.work_ms = last_.critical_path_ms = wall.ms();
   // The patterns, the parts' in parallel (a large part's takes milliseconds).
-  const std::vector<Mat6> mass = body_masses(s);
+  body_masses(s, split.mass);
   for_parts([&](Part& p) {
     const int i = static_cast<int>(&p - parts_.data());
-    p.n.assign(s, std::move(bodies[i]), rows[i], mass, dense_max_bodies);
+    p.n.assign(s, split.bodies[i], split.rows[i], split.mass, dense_max_bodies);
   });
   serial([&] {
     // S carries no mass of its own: the parts' blocks hold it.
-    interface_.assign(s, std::move(interface_bodies), std::move(interface_rows),
-                      std::vector<Mat6>(s.bodies, Mat6::Zero()), dense_max_bodies, cliques);
+    split.no_mass.assign(s.bodies, Mat6::Zero());
+    interface_.assign(s, split.interface_bodies, split.interface_rows, split.no_mass, dense_max_bodies, split.cliques);
     for (Part& p : parts_) {
       p.schur_at.clear();
       for (const int c : p.boundary_at)

@@ -94,7 +94,18 @@ class SubstructuredSystem final : public LinearSystem {
   // Ends an assign(), factor() or solve() call of wall time `wall_ms`: adds last() to total().
   void finish_call(double wall_ms);
 
+  // assign()'s split of the island, kept so that assigning again allocates nothing.
+  struct Split {
+    std::vector<std::array<int, 2>> group;       // per row: its bodies' parts, by slot
+    std::vector<std::vector<int>> bodies, rows;  // per part: its bodies (I_i's, then K_i's) and sub-system rows
+    std::vector<std::vector<int>> cliques;       // per part: K_i's positions among S's bodies
+    std::vector<int> interface_rows, interface_bodies;
+    std::vector<char> boundary;                  // per island body: on an interface row
+    std::vector<Mat6> mass, no_mass;             // per island body: M, and zero for S
+  };
+
   std::vector<Part> parts_;
+  Split split_;
   int interface_rows_ = 0;
   BodySpaceSystem interface_;  // S on the interface bodies: N_T from the interface rows, no mass
   Eigen::VectorXd r_;

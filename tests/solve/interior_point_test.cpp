@@ -90,7 +90,7 @@ TEST(InteriorPoint, ConvergesOnFrictionlessColumns) {
       MonolithicSystem system;
       system.assign(s, 0);
       InteriorPoint ipm;
-      ipm.start(s, Eigen::VectorXd::Zero(s.rows));
+      ipm.start(s);
       IslandChunks chunks;
       double best = INFINITY;
       for (int step = 0; step < 40 && best > kSettledResidual; ++step) {

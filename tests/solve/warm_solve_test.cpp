@@ -1,0 +1,206 @@
+// A warm solve allocates nothing of its own (DESIGN.md §3: no allocation per step once warm): the
+// solve stage given the same problem again, with its island cache, makes no heap call but
+// SuiteSparse's (KLU's numeric factor of a step's first LU, which pivots afresh; CHOLMOD's
+// permuted copy of the matrix). Counted by interposing malloc, calloc and realloc in this test program, so that Eigen's
+// and the standard library's allocations count as well as operator new's; SuiteSparse's go through
+// its configured allocator, which marks them. Not under the sanitizers, which interpose malloc
+// themselves.
+#include "partition/partition.hpp"
+#include "scenes/scenes.hpp"
+#include "solve/island_cache.hpp"
+#include "solve/newton_substructured.hpp"
+#include "solve/random_blcp.hpp"
+#include "solve/solve.hpp"
+#include "step/world_internals.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <suitesparse/SuiteSparse_config.h>
+
+#include <atomic>
+#include <cstddef>
+#include <random>
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define RBPART_COUNTS_ALLOCATIONS 0
+#else
+#define RBPART_COUNTS_ALLOCATIONS 1
+#endif
+
+namespace {
+
+std::atomic<bool> counting{false};
+std::atomic<long> ours{0};
+thread_local bool in_suitesparse = false;
+
+void count_one() {
+  if (counting.load(std::memory_order_relaxed) && !in_suitesparse) ours.fetch_add(1, std::memory_order_relaxed);
+}
+
+}  // namespace
+
+#if RBPART_COUNTS_ALLOCATIONS
+// glibc's own entry points, under the names it exports for interposers.
+extern "C" void* __libc_malloc(std::size_t);
+extern "C" void* __libc_calloc(std::size_t, std::size_t);
+extern "C" void* __libc_realloc(void*, std::size_t);
+
+extern "C" void* malloc(std::size_t n) {
+  count_one();
+  return __libc_malloc(n);
+}
+extern "C" void* calloc(std::size_t count, std::size_t n) {
+  count_one();
+  return __libc_calloc(count, n);
+}
+extern "C" void* realloc(void* p, std::size_t n) {
+  count_one();
+  return __libc_realloc(p, n);
+}
+#endif
+
+namespace rbpart {
+namespace {
+
+// SuiteSparse's allocations, marked as its own while they run.
+struct SuiteSparseMarked {
+  static void* malloc_fn(std::size_t n) {
+    in_suitesparse = true;
+    void* p = std::malloc(n);
+    in_suitesparse = false;
+    return p;
+  }
+  static void* calloc_fn(std::size_t count, std::size_t n) {
+    in_suitesparse = true;
+    void* p = std::calloc(count, n);
+    in_suitesparse = false;
+    return p;
+  }
+  static void* realloc_fn(void* p, std::size_t n) {
+    in_suitesparse = true;
+    void* q = std::realloc(p, n);
+    in_suitesparse = false;
+    return q;
+  }
+  SuiteSparseMarked() {
+    SuiteSparse_config.malloc_func = malloc_fn;
+    SuiteSparse_config.calloc_func = calloc_fn;
+    SuiteSparse_config.realloc_func = realloc_fn;
+  }
+  ~SuiteSparseMarked() {
+    SuiteSparse_config.malloc_func = std::malloc;
+    SuiteSparse_config.calloc_func = std::calloc;
+    SuiteSparse_config.realloc_func = std::realloc;
+  }
+};
+
+// Our heap calls while fn() runs.
+template <class Fn>
+long allocations_in(Fn&& fn) {
+  ours = 0;
+  counting = true;
+  fn();
+  counting = false;
+  return ours.load();
+}
+
+// One step's solve-stage input.
+struct Problem {
+  Rows rows;
+  Bodies bodies;
+  Islands islands;
+  ConstraintGraph graph;
+};
+
+// The built-in box pile's step after `steps` steps: islands of every size, dense and sparse, some
+// rows tied and, in the falling phase, islands that need the interior-point phase.
+Problem box_pile_step(int steps) {
+  World world(make_builtin_scene("box_pile"));
+  for (int i = 0; i < steps; ++i) world.step();
+  Problem p;
+  set_problem_observer(world, [&](const Rows& rows, const Bodies& bodies, const Islands& islands,
+                                  const ConstraintGraph& graph) {
+    p.rows = rows;
+    p.bodies = bodies;
+    p.islands = islands;
+    p.graph = graph;
+  });
+  world.step();
+  return p;
+}
+
+class WarmSolve : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!RBPART_COUNTS_ALLOCATIONS) GTEST_SKIP() << "the sanitizers interpose malloc themselves";
+  }
+  // One thread: a TBB worker joining for the first time sets up its own state.
+  tbb::global_control one_thread{tbb::global_control::max_allowed_parallelism, 1};
+  SuiteSparseMarked marked;
+};
+
+TEST_F(WarmSolve, TheDirectSolverAllocatesNothingOnAStepItHasSeen) {
+  const Problem p = box_pile_step(60);
+  DirectCache cache;
+  const SolverParams params;
+  for (int call = 0; call < 3; ++call) {
+    Rows rows = p.rows;  // the same warm start every time
+    const long count = allocations_in([&] { solve_newton_direct(rows, p.bodies, p.islands, params, &cache); });
+    // The first call sets up every island's buffers: the counter counts.
+    if (call == 0) EXPECT_GT(count, 0);
+    else EXPECT_EQ(count, 0) << "call " << call;
+  }
+}
+
+TEST_F(WarmSolve, TheSubstructuredSolverAllocatesNothingOnAStepItHasSeen) {
+  const Problem p = box_pile_step(60);
+  for (const PartitionerKind partitioner : {PartitionerKind::Mix, PartitionerKind::Metis}) {
+    PartitionParams pp;
+    pp.partitioner = partitioner;
+    pp.nmax = 4;
+    Partition partition;
+    partition_graph(p.graph, pp, partition);
+    SubstructuredCache cache;
+    const SolverParams params;
+    for (int call = 0; call < 3; ++call) {
+      Rows rows = p.rows;
+      NewtonSubstructuredReport report;
+      const long count = allocations_in(
+          [&] { report = solve_newton_substructured(rows, p.bodies, p.islands, p.graph, partition, params, &cache); });
+      if (call == 0) {
+        EXPECT_GT(count, 0);
+        EXPECT_GT(report.interface_rows, 0);  // parts and an interface to set up
+      } else {
+        EXPECT_EQ(count, 0) << "call " << call;
+      }
+    }
+  }
+}
+
+// Random islands harder than a pile's (many contacts on few bodies): the interior-point phase, and
+// both the dense and the sparse factorisations.
+TEST_F(WarmSolve, HardRandomIslandsAllocateNothingWhenSolvedAgain) {
+  std::mt19937 rng(5);
+  for (const int bodies : {3, 40}) {
+    testing::IslandOptions options;
+    options.rows = 15 * bodies;
+    options.bodies = bodies;
+    testing::RandomIsland island;
+    testing::random_contact_island(rng, options, island);
+    DirectCache cache;
+    const SolverParams params;
+    for (int call = 0; call < 3; ++call) {
+      Rows rows = island.rows;
+      SolveStats stats;
+      const long count =
+          allocations_in([&] { stats = solve_newton_direct(rows, island.bodies, island.islands, params, &cache); });
+      if (call == 0) EXPECT_GT(count, 0);
+      else EXPECT_EQ(count, 0) << bodies << " bodies, call " << call;
+      EXPECT_GT(stats.factorizations, 1);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rbpart
