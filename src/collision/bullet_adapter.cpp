@@ -5,9 +5,12 @@
 // - Broad phase: btDbvtBroadphase inside a btCollisionWorld. AABBs are set here, each grown by half
 //   the contact margin plus the body's own sweep, so the boxes of every pair closer than its margin
 //   overlap. Static-static pairs are excluded by the filter masks and joined pairs by an overlap
-//   filter: filtered pairs never become pairs. The dispatcher runs one collision algorithm of ours
-//   for every pair of shape types (PairAlgorithm): the narrow phase, then the pair's manifold
-//   (manifold.hpp). Bullet's own convex algorithms and persistent manifolds are not used.
+//   filter: filtered pairs never become pairs. The dispatcher gives every pair of shape types one
+//   collision algorithm of ours (PairAlgorithm): the narrow phase, then the pair's manifold
+//   (manifold.hpp). Bullet's own convex algorithms and persistent manifolds are not used. Bullet's
+//   dispatch only creates the algorithms (serially: its pool is not thread-safe); the pairs then
+//   run in parallel, each writing its own manifold, and are read in the pair cache's order, so the
+//   contacts do not depend on the thread count.
 // - GJK/EPA: btGjkEpaSolver2 on each body's Bullet shape, exact or rounded (the narrow phase's
 //   step 1, asked through GjkEpa).
 #include "collision/collide.hpp"
@@ -20,9 +23,11 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "collision/narrow_phase.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "scene/mass_properties.hpp"
 
 namespace rbpart {
@@ -81,15 +86,33 @@ BulletShapes make_bullet_shapes(const Shape& shape, const Geometry& g, const std
   return s;
 }
 
-// The dispatcher keeps the narrow phase for its algorithms.
+// The dispatcher keeps the narrow phase for its algorithms, and the pairs of the current call.
 class Dispatcher : public btCollisionDispatcher {
  public:
   Dispatcher(btCollisionConfiguration* config, NarrowPhase* narrow)
-      : btCollisionDispatcher(config), narrow_(narrow) {}
+      : btCollisionDispatcher(config), narrow_(narrow) {
+    setNearCallback(&Dispatcher::create_algorithm);
+  }
   NarrowPhase& narrow() { return *narrow_; }
+  std::vector<btCollisionAlgorithm*>& pairs() { return pairs_; }
 
  private:
+  // Bullet's default near callback up to the algorithm: creates it if the pair has none and lists
+  // it, leaving its run to the caller.
+  static void create_algorithm(btBroadphasePair& pair, btCollisionDispatcher& base, const btDispatcherInfo&) {
+    auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+    auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+    if (!base.needsCollision(o0, o1)) return;
+    if (!pair.m_algorithm) {
+      const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1, -1);
+      const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1, -1);
+      pair.m_algorithm = base.findAlgorithm(&w0, &w1, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+    }
+    if (pair.m_algorithm) static_cast<Dispatcher&>(base).pairs_.push_back(pair.m_algorithm);
+  }
+
   NarrowPhase* narrow_;
+  std::vector<btCollisionAlgorithm*> pairs_;
 };
 
 // The pair algorithm: runs the narrow phase on its pair and keeps the pair's manifold.
@@ -101,6 +124,7 @@ class PairAlgorithm : public btCollisionAlgorithm {
 
   void processCollision(const btCollisionObjectWrapper*, const btCollisionObjectWrapper*, const btDispatcherInfo&,
                         btManifoldResult*) override {
+    // Pairs run in parallel (Collider::collide): this writes the pair's own axis and manifold.
     NarrowPhase& narrow = static_cast<Dispatcher*>(m_dispatcher)->narrow();
     const int a = body_a(), b = body_b();
     PairPoint pts[kMaxPoints];
@@ -368,7 +392,11 @@ void Collider::collide(const std::vector<Vec3>& frame_position, const std::vecto
   m.posed = true;
 
   m.world->computeOverlappingPairs();
-  m.dispatcher->dispatchAllCollisionPairs(m.world->getPairCache(), m.world->getDispatchInfo(), m.dispatcher.get());
+  std::vector<btCollisionAlgorithm*>& active = m.dispatcher->pairs();
+  active.clear();
+  const btDispatcherInfo& info = m.world->getDispatchInfo();
+  m.dispatcher->dispatchAllCollisionPairs(m.world->getPairCache(), info, m.dispatcher.get());
+  parallel_for_each(active.size(), [&](std::size_t k) { active[k]->processCollision(nullptr, nullptr, info, nullptr); });
 
   // Contacts with body_a dynamic (the lower index when both are), normal from b into a.
   contacts.clear();

@@ -7,6 +7,9 @@
 
 namespace rbpart::collision {
 
+thread_local std::vector<Vec3> NarrowPhase::reference, NarrowPhase::incident, NarrowPhase::scratch, NarrowPhase::patch;
+thread_local std::vector<PairPoint> NarrowPhase::candidates;
+
 namespace {
 
 double deepest_distance(const std::vector<PairPoint>& points) {

@@ -89,7 +89,8 @@ class GjkEpa {
 // in its plane.
 Vec3 into_polygon(const std::vector<Vec3>& poly, const Vec3& m, const Vec3& p);
 
-// State shared by the pair algorithms of one Collider, and the per-call scratch they reuse.
+// State shared by the pair algorithms of one Collider (read-only during the pairs' runs), and the
+// per-call scratch they reuse.
 struct NarrowPhase {
   double contact_margin = 0;  // a pair's own margin adds the two bodies' sweeps to it
   std::vector<Geometry> geometry;
@@ -105,8 +106,10 @@ struct NarrowPhase {
 
   const GjkEpa* gjk_epa = nullptr;  // step 1
 
-  std::vector<Vec3> reference, incident, scratch, patch;
-  std::vector<PairPoint> candidates;
+  // Per-call scratch, one set per thread: pairs run in parallel on one NarrowPhase, and each call
+  // writes a buffer before it reads it.
+  static thread_local std::vector<Vec3> reference, incident, scratch, patch;
+  static thread_local std::vector<PairPoint> candidates;
 
   double pair_margin(int a, int b) const { return contact_margin + sweep[a] + sweep[b]; }
   // The pair's contacts (at most kMaxPoints) up to its margin into `out`, and their number. `axis` is
