@@ -45,20 +45,23 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     return apart < std::max(0.1 * size, 2 * (pts[i].distance - pts[k].distance)) &&
            pts[i].normal.dot(pts[k].normal) > 0.9;
   };
-  std::vector<int> low;  // the points with no deeper neighbour
+  // Index lists kept per thread (pairs run in parallel), so that a warm step allocates nothing.
+  thread_local std::vector<int> low, pick, level, order;
+  thread_local std::vector<PairPoint> chosen;
+  low.clear();  // the points with no deeper neighbour
   for (int i = 0; i < count; ++i) {
     bool covered = false;
     for (int k = 0; k < count && !covered; ++k)
       covered = pts[k].distance < pts[i].distance - allowance && near(i, k);
     if (!covered) low.push_back(i);
   }
-  std::vector<int> pick = {low[0]};
+  pick.assign(1, low[0]);
   for (int i : low)
     if (pts[i].distance < pts[pick[0]].distance) pick[0] = i;
   // The footprint's points: those as deep as the deepest (up to the allowance) if they span a
   // plane, else all. A rock resting on the three vertices of a small face needs all three, which
   // a footprint spread over higher points could miss.
-  std::vector<int> level;
+  level.clear();
   for (int i : low)
     if (pts[i].distance <= pts[pick[0]].distance + allowance) level.push_back(i);
   const bool spread = level.size() < 3;  // the footprint is drawn from all points
@@ -125,7 +128,7 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     if (spread && static_cast<int>(pick.size()) < kMaxPoints && pts[i].distance <= 0 && below(i) == -INFINITY &&
         std::find(pick.begin(), pick.end(), i) == pick.end())
       pick.push_back(i);
-  std::vector<int> order(count);
+  order.resize(count);
   for (int i = 0; i < count; ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](int x, int y) { return pts[x].predicted < pts[y].predicted; });
   for (int i : order) {
@@ -143,7 +146,7 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     if (worst < 0) break;
     pick.push_back(worst);
   }
-  std::vector<PairPoint> chosen;
+  chosen.clear();
   for (int k : pick) chosen.push_back(pts[k]);
   pts.assign(chosen.begin(), chosen.end());
   return static_cast<int>(pts.size());

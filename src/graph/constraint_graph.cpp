@@ -34,9 +34,10 @@ void build_constraint_graph(const Rows& rows, const Bodies& bodies, ConstraintGr
       g.mass.push_back(bodies.mass[i]);
     }
 
-  // One entry per row between two dynamic bodies, in both directions, then merged per pair.
-  std::vector<Edge> half_edges;
-  half_edges.reserve(2 * rows.size());
+  // One entry per row between two dynamic bodies, in both directions, then merged per pair (kept
+  // per thread, so that a warm step allocates nothing).
+  thread_local std::vector<Edge> half_edges;
+  half_edges.clear();
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const int a = rows.body[r][0] >= 0 ? g.node_of[rows.body[r][0]] : -1;
     const int b = rows.body[r][1] >= 0 ? g.node_of[rows.body[r][1]] : -1;

@@ -15,9 +15,12 @@ int find_root(std::vector<int>& parent, int i) {
 }  // namespace
 
 void build_islands(const Rows& rows, int body_count, Islands& islands) {
-  std::vector<int> parent(body_count);
+  // Scratch kept per thread, so that a warm step allocates nothing.
+  thread_local std::vector<int> parent, island_of, row_island, fill;
+  thread_local std::vector<char> in_row;
+  parent.resize(body_count);
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<char> in_row(body_count, 0);
+  in_row.assign(body_count, 0);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto [a, b] = rows.body[r];
     if (a >= 0) in_row[a] = 1;
@@ -30,7 +33,7 @@ void build_islands(const Rows& rows, int body_count, Islands& islands) {
     }
   }
   // Island number per root, in order of the lowest body index.
-  std::vector<int> island_of(body_count, -1);
+  island_of.assign(body_count, -1);
   int count = 0;
   for (int i = 0; i < body_count; ++i) {
     if (!in_row[i]) continue;
@@ -43,7 +46,7 @@ void build_islands(const Rows& rows, int body_count, Islands& islands) {
   islands.row_offset.assign(count + 1, 0);
   for (int i = 0; i < body_count; ++i)
     if (island_of[i] >= 0) ++islands.body_offset[island_of[i] + 1];
-  std::vector<int> row_island(rows.size());
+  row_island.resize(rows.size());
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const int b = rows.body[r][0] >= 0 ? rows.body[r][0] : rows.body[r][1];
     row_island[r] = b >= 0 ? island_of[b] : -1;
@@ -53,7 +56,7 @@ void build_islands(const Rows& rows, int body_count, Islands& islands) {
   std::partial_sum(islands.row_offset.begin(), islands.row_offset.end(), islands.row_offset.begin());
   islands.bodies.resize(islands.body_offset.back());
   islands.rows.resize(islands.row_offset.back());
-  std::vector<int> fill(islands.body_offset.begin(), islands.body_offset.end() - 1);
+  fill.assign(islands.body_offset.begin(), islands.body_offset.end() - 1);
   for (int i = 0; i < body_count; ++i)
     if (island_of[i] >= 0) islands.bodies[fill[island_of[i]]++] = i;
   fill.assign(islands.row_offset.begin(), islands.row_offset.end() - 1);

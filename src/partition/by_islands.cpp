@@ -5,7 +5,9 @@ namespace rbpart {
 
 void partition_by_islands(const ConstraintGraph& graph, const Islands& islands, Partition& partition) {
   const int n = graph.node_count();
-  std::vector<int> island_of(n, -1);
+  // Scratch kept per thread, so that a warm step allocates nothing.
+  thread_local std::vector<int> island_of, part_of_island;
+  island_of.assign(n, -1);
   for (std::size_t i = 0; i < islands.count(); ++i)
     for (int k = islands.body_offset[i]; k < islands.body_offset[i + 1]; ++k) {
       const int node = graph.node_of[islands.bodies[k]];
@@ -13,7 +15,7 @@ void partition_by_islands(const ConstraintGraph& graph, const Islands& islands, 
     }
   // Islands list their bodies in increasing order, and node order follows body order, so numbering
   // parts as their first node is met gives increasing lowest nodes.
-  std::vector<int> part_of_island(islands.count(), -1);
+  part_of_island.assign(islands.count(), -1);
   partition.part_of.assign(n, -1);
   partition.part_count = 0;
   for (int v = 0; v < n; ++v) {

@@ -6,7 +6,7 @@
 // or KLU analyses are reused (KLU's pivots are searched afresh: pattern_factor.hpp); its buffers
 // keep their capacity either way, so that a step whose islands keep their bodies and contacts
 // allocates nothing of its own (SuiteSparse allocates KLU's numeric factors and CHOLMOD's copies:
-// tests/solve/warm_solve_test.cpp).
+// tests/step/warm_step_test.cpp).
 #include "graph/islands.hpp"
 #include "solve/island_system.hpp"
 #include "solve/monolithic.hpp"
