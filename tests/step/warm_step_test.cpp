@@ -1,10 +1,10 @@
 // A warm step allocates nothing of its own (DESIGN.md §3: no allocation per step once warm): the
 // solve stage given the same problem again, with its island cache, and a World stepping a pile at
 // rest make no heap call but SuiteSparse's (KLU's numeric factor of a step's first LU, which pivots
-// afresh; CHOLMOD's permuted copy of the matrix). Counted by interposing malloc, calloc and realloc in this test program, so that Eigen's
-// and the standard library's allocations count as well as operator new's; SuiteSparse's go through
-// its configured allocator, which marks them. Not under the sanitizers, which interpose malloc
-// themselves.
+// afresh; CHOLMOD's permuted copy of the matrix). Counted by interposing malloc, calloc and realloc
+// in this test program, so that Eigen's and the standard library's allocations count as well as
+// operator new's; SuiteSparse's go through its configured allocator, which marks them. Not under
+// the sanitizers, which interpose malloc themselves.
 #include "partition/partition.hpp"
 #include "scenes/scenes.hpp"
 #include "solve/island_cache.hpp"
