@@ -59,6 +59,11 @@ auto parse_name(const Table& table, const std::string& name, const char* what) {
 
 }  // namespace
 
+bool same_partition_input(const ConstraintGraph& a, const ConstraintGraph& b) {
+  return a.body_of == b.body_of && a.mass == b.mass && a.offset == b.offset && a.adjacency == b.adjacency &&
+         a.weight == b.weight;
+}
+
 void partition_graph(const ConstraintGraph& graph, const PartitionParams& params, Partition& partition) {
   const IslandPartitioner run = entry_of(kPartitioners, params.partitioner).run;
   if (run == nullptr) throw std::invalid_argument("partition_graph: no partitioner chosen");

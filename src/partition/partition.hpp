@@ -40,6 +40,12 @@ void partition_graph(const ConstraintGraph& graph, const PartitionParams& params
 // keeps every property above.
 void refine_partition(const ConstraintGraph& graph, const PartitionParams& params, Partition& partition);
 
+// Whether two graphs agree in all that partition_graph and refine_partition read: the nodes (scene
+// bodies and masses), the edges and their weights. Under the same parameters their partitions are
+// then the same (above), so a step whose graph is the last one's keeps its partition: the World
+// and the study's replay do, and at rest, where contacts persist, the two stages cost this check.
+bool same_partition_input(const ConstraintGraph& a, const ConstraintGraph& b);
+
 // Parts, sizes, cut, interface rows and bodies (times left 0: the caller measures them).
 PartitionQuality measure_partition(const ConstraintGraph& graph, const Partition& partition);
 

@@ -53,6 +53,9 @@ struct World::Impl {
   SubstructuredCache substructured_cache;
   ConstraintGraph graph_;
   Partition partition_;
+  // The graph partition_ was made of, and whether the last step kept partition_ (its graph was that).
+  ConstraintGraph partitioned_graph_;
+  bool have_partitioned_graph = false, partition_kept = false;
   StepStats stats;
   int steps = 0;
   // time() - steps dt: 0 unless a restart's time is not a whole number of steps (restart).
@@ -176,6 +179,24 @@ struct World::Impl {
     check("refine");
   }
 
+  // The partition and refine stages, skipped when the step's graph is the one partition_ was made
+  // of (same_partition_input: the parts would be the same); the check and keeping the graph count
+  // as partition time.
+  void partition_stages(StepProfile& p) {
+    {
+      const Timer t;
+      partition_kept = have_partitioned_graph && same_partition_input(graph_, partitioned_graph_);
+      if (!partition_kept) partition();
+      p.partition_ms = t.ms();
+    }
+    if (partition_kept) return;
+    { const Timer t; refine(); p.refine_ms = t.ms(); }
+    const Timer t;
+    partitioned_graph_ = graph_;
+    have_partitioned_graph = true;
+    p.partition_ms += t.ms();
+  }
+
   // --debug-checks: a partition breaking DESIGN.md §5's properties is an internal failure.
   void check(const char* stage) const {
     if (!partition_params.debug_checks) return;
@@ -261,10 +282,7 @@ struct World::Impl {
     { const Timer t; graph(); p.graph_ms = t.ms(); }
     p.partition_ms = p.refine_ms = 0;  // without a partitioner the parts are the islands (graph stage)
     const bool partitioned = partition_params.partitioner != PartitionerKind::None;
-    if (partitioned) {
-      { const Timer t; partition(); p.partition_ms = t.ms(); }
-      { const Timer t; refine(); p.refine_ms = t.ms(); }
-    }
+    if (partitioned) partition_stages(p);
     if (observer) observer(rows, bodies, islands, graph_);
     { const Timer t; s.solve = solve(); p.solve_ms = t.ms(); }
     { const Timer t; integrate(); p.integrate_ms = t.ms(); }
@@ -373,6 +391,7 @@ const Rows& world_rows(const World& world) { return WorldAccess::impl(world).row
 const Islands& world_islands(const World& world) { return WorldAccess::impl(world).islands; }
 const ConstraintGraph& world_graph(const World& world) { return WorldAccess::impl(world).graph_; }
 const Partition& world_partition(const World& world) { return WorldAccess::impl(world).partition_; }
+bool world_partition_kept(const World& world) { return WorldAccess::impl(world).partition_kept; }
 void set_problem_observer(World& world, ProblemObserver observer) {
   WorldAccess::impl(world).observer = std::move(observer);
 }

@@ -22,6 +22,8 @@ const ConstraintGraph& world_graph(const World& world);
 // The last step's sub-systems: part id per graph node. The islands for the monolithic solvers
 // without a partitioner; the partitioned and refined parts otherwise.
 const Partition& world_partition(const World& world);
+// Whether the last step kept the partition of the step before (the same graph: same_partition_input).
+bool world_partition_kept(const World& world);
 
 // Called every step just before the solve stage with the step's problem: the rows carrying their
 // warm starts, the bodies (world inertia of this step), the islands and the constraint graph.

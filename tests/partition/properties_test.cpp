@@ -152,5 +152,37 @@ TEST(PartitionProperties, LimitingParametersReduceToBfsAndMinDp) {
     }
 }
 
+// same_partition_input sees every change a partitioner or refiner could answer to, and the one
+// field they do not read (the rows per edge) does not count.
+TEST(PartitionProperties, SamePartitionInputSeesEveryChangeOfWhatPartitionersRead) {
+  int edged = 0;
+  for (const GeneratedGraph& gg : suite()) {
+    const ConstraintGraph& g = gg.graph;
+    ConstraintGraph h = g;
+    ASSERT_TRUE(same_partition_input(g, h)) << gg.name;
+    for (int& r : h.rows) r += 3;
+    EXPECT_TRUE(same_partition_input(g, h)) << gg.name;
+    if (g.node_count() == 0) continue;
+    h = g;
+    h.mass.back() *= 1.5;
+    EXPECT_FALSE(same_partition_input(g, h)) << gg.name;
+    h = g;
+    h.body_of.back() += 1;
+    EXPECT_FALSE(same_partition_input(g, h)) << gg.name;
+    if (g.edge_count() == 0) continue;
+    ++edged;
+    h = g;
+    h.weight.front() += 1;
+    EXPECT_FALSE(same_partition_input(g, h)) << gg.name;
+    h = g;
+    h.adjacency.front() = (h.adjacency.front() + 1) % g.node_count();
+    EXPECT_FALSE(same_partition_input(g, h)) << gg.name;
+    h = g;  // the last node's edges moved to the node before (same edge count)
+    h.offset[g.node_count() - 1] = h.offset[g.node_count()];
+    EXPECT_EQ(same_partition_input(g, h), g.offset[g.node_count() - 1] == g.offset[g.node_count()]) << gg.name;
+  }
+  EXPECT_GT(edged, 100);
+}
+
 }  // namespace
 }  // namespace rbpart

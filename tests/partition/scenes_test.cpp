@@ -79,7 +79,7 @@ TEST(SceneGraphs, WorldPartitionsEveryStepAndReportsTheQuality) {
   params.debug_checks = true;  // a broken partition throws from step()
   World world(make_builtin_scene("rock_pile", {{"rocks", "40"}}), {}, pgs(), params);
   EXPECT_EQ(world.partition_params().nmax, 8);
-  int steps_with_cut = 0;
+  int steps_with_cut = 0, kept = 0;
   for (int i = 0; i < 100; ++i) {
     const StepStats& s = world.step();
     const ConstraintGraph& g = world_graph(world);
@@ -88,6 +88,10 @@ TEST(SceneGraphs, WorldPartitionsEveryStepAndReportsTheQuality) {
     partition_graph(g, params, expect);
     refine_partition(g, params, expect);
     ASSERT_EQ(world_partition(world).part_of, expect.part_of) << "step " << s.step;
+    if (world_partition_kept(world)) {
+      ++kept;
+      EXPECT_EQ(s.profile.refine_ms, 0);
+    }
     const PartitionQuality q = measure_partition(g, expect);
     EXPECT_EQ(s.partition.parts, q.parts);
     EXPECT_EQ(s.partition.edge_cut, q.edge_cut);
@@ -96,6 +100,23 @@ TEST(SceneGraphs, WorldPartitionsEveryStepAndReportsTheQuality) {
     steps_with_cut += s.partition.edge_cut > 0;
   }
   EXPECT_GT(steps_with_cut, 0);
+  // Steps whose graph repeats the step before's kept its parts, checked above to be the parts made
+  // afresh; at least the first step made its own.
+  EXPECT_LT(kept, 100);
+}
+
+// A World whose graph does not change keeps its parts: a tower of logs at rest (the direct solver:
+// PGS leaves it jittering, its contacts coming and going).
+TEST(SceneGraphs, AWorldAtRestKeepsItsParts) {
+  PartitionParams params;
+  params.partitioner = PartitionerKind::Metis;
+  params.nmax = 10;
+  World world(make_builtin_scene("log_tower", {{"layers", "6"}}), {}, {}, params);
+  for (int i = 0; i < 30; ++i) world.step();
+  for (int i = 0; i < 5; ++i) {
+    world.step();
+    EXPECT_TRUE(world_partition_kept(world)) << "step " << world.step_count();
+  }
 }
 
 TEST(SceneGraphs, WithoutAPartitionerThePartsAreTheIslands) {
