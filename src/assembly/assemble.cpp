@@ -3,9 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/parallel.hpp"
+
 namespace rbpart {
 
 namespace {
+
+// Contacts or rows per task: enough to outweigh a task's cost (a contact's three rows take about a
+// microsecond).
+constexpr std::size_t kGrain = 256;
 
 // The Jacobian block of a point constraint along direction d at offset r from the COM:
 // d . (v + w x r) = d . v + (r x d) . w.
@@ -55,12 +61,23 @@ double row_diagonal(const Rows& rows, int r, const Bodies& bodies) {
   return d;
 }
 
-int add_contact_normal_row(const Contact& c, const Bodies& bodies, Rows& rows) {
+namespace {
+
+// Sets row r as contact c's normal row.
+void set_contact_normal_row(const Contact& c, const Bodies& bodies, int r, Rows& rows) {
   const int a = c.body_a;
   const int b = c.body_b >= 0 && !bodies.is_static[c.body_b] ? c.body_b : -1;
-  const int r = rows.add(RowKind::Normal, a, b, contact_row_key(c.id, 0));
+  rows.set(r, RowKind::Normal, a, b, contact_row_key(c.id, 0));
   rows.jac[r][0] = point_jacobian(c.normal, c.point - bodies.x[a]);
   if (b >= 0) rows.jac[r][1] = -point_jacobian(c.normal, c.point - bodies.x[b]);
+}
+
+}  // namespace
+
+int add_contact_normal_row(const Contact& c, const Bodies& bodies, Rows& rows) {
+  const int r = static_cast<int>(rows.size());
+  rows.resize(rows.size() + 1);
+  set_contact_normal_row(c, bodies, r, rows);
   return r;
 }
 
@@ -182,17 +199,21 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
                    const Bodies& bodies, const std::vector<Vec3>& sliding_v,
                    const std::vector<Vec3>& sliding_w, const StepParams& params, double h,
                    const WarmStart& warm, Rows& rows) {
-  rows.clear();
   const double inv_h = 1.0 / h;
 
-  // Contacts: one normal row and two friction rows each.
-  for (const Contact& c : contacts) {
+  // Contacts: one normal row and two friction rows each, rows 3i to 3i + 2 for contact i, in
+  // parallel (each contact writes only its own rows, every field of them: the last step's values
+  // in place are not read).
+  rows.resize(3 * contacts.size());
+  parallel_for_chunked(contacts.size(), kGrain, [&](std::size_t i) {
+    const Contact& c = contacts[i];
     const int a = c.body_a;
     const int b = c.body_b >= 0 && !bodies.is_static[c.body_b] ? c.body_b : -1;
     const Vec3 ra = c.point - bodies.x[a];
     const Vec3 rb = b >= 0 ? Vec3(c.point - bodies.x[b]) : Vec3::Zero();
 
-    const int n_row = add_contact_normal_row(c, bodies, rows);
+    const int n_row = static_cast<int>(3 * i);
+    set_contact_normal_row(c, bodies, n_row, rows);
     // Penetration beyond the slop is pushed out at rate erp/h; a gap may close within the step
     // (speculative contact) but is never pulled shut.
     const double bias = c.distance < 0 ? params.erp * inv_h * std::min(0.0, c.distance + params.slop)
@@ -209,7 +230,8 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
     const Vec3 f_warm = warm.friction_impulse(c.id);
     const Vec3 tangents[2] = {t1, t2};
     for (int k = 0; k < 2; ++k) {
-      const int r = rows.add(RowKind::Friction, a, b, contact_row_key(c.id, k + 1));
+      const int r = n_row + 1 + k;
+      rows.set(r, RowKind::Friction, a, b, contact_row_key(c.id, k + 1));
       rows.jac[r][0] = point_jacobian(tangents[k], ra);
       if (b >= 0) rows.jac[r][1] = -point_jacobian(tangents[k], rb);
       rows.normal_of[r] = n_row;
@@ -226,7 +248,7 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
       rows.lambda[n_row] = lambda;
       rows.state[n_row] = state;
     }
-  }
+  });
 
   // Joints: position errors become Baumgarte rates, compliances regularisations.
   const std::size_t first_joint_row = rows.size();
@@ -236,8 +258,8 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
     rows.sigma[r] *= inv_h * inv_h;
   }
 
-  // Rigid-row floor on sigma, q = J u* + b, warm starts of joint rows.
-  for (std::size_t r = 0; r < rows.size(); ++r) {
+  // Rigid-row floor on sigma, q = J u* + b, warm starts of joint rows (each row its own).
+  parallel_for_chunked(rows.size(), kGrain, [&](std::size_t r) {
     const int row = static_cast<int>(r);
     rows.sigma[r] += params.sigma_floor * row_diagonal(rows, row, bodies);
     rows.q[r] += row_velocity(rows, row, bodies);
@@ -249,7 +271,7 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
         rows.state[r] = state;
       }
     }
-  }
+  });
 }
 
 }  // namespace rbpart

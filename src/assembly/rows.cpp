@@ -19,21 +19,42 @@ void Rows::clear() {
   state.clear();
 }
 
-int Rows::add(RowKind k, int body0, int body1, std::uint64_t row_key) {
+void Rows::resize(std::size_t n) {
+  body.resize(n);
+  jac.resize(n);
+  q.resize(n);
+  lo.resize(n);
+  hi.resize(n);
+  sigma.resize(n);
+  kind.resize(n);
+  normal_of.resize(n);
+  mu.resize(n);
+  key.resize(n);
+  lambda.resize(n);
+  state.resize(n);
+}
+
+void Rows::set(int r, RowKind k, int body0, int body1, std::uint64_t row_key) {
   const double inf = std::numeric_limits<double>::infinity();
-  body.push_back({body0, body1});
-  jac.push_back({Vec6::Zero(), Vec6::Zero()});
-  q.push_back(0);
-  lo.push_back(k == RowKind::Normal ? 0.0 : -inf);
-  hi.push_back(inf);
-  sigma.push_back(0);
-  kind.push_back(k);
-  normal_of.push_back(-1);
-  mu.push_back(0);
-  key.push_back(row_key);
-  lambda.push_back(0);
-  state.push_back(k == RowKind::Normal ? RowState::Lower : RowState::Free);
-  return static_cast<int>(q.size()) - 1;
+  body[r] = {body0, body1};
+  jac[r] = {Vec6::Zero(), Vec6::Zero()};
+  q[r] = 0;
+  lo[r] = k == RowKind::Normal ? 0.0 : -inf;
+  hi[r] = inf;
+  sigma[r] = 0;
+  kind[r] = k;
+  normal_of[r] = -1;
+  mu[r] = 0;
+  key[r] = row_key;
+  lambda[r] = 0;
+  state[r] = k == RowKind::Normal ? RowState::Lower : RowState::Free;
+}
+
+int Rows::add(RowKind k, int body0, int body1, std::uint64_t row_key) {
+  const int r = static_cast<int>(size());
+  resize(size() + 1);
+  set(r, k, body0, body1, row_key);
+  return r;
 }
 
 }  // namespace rbpart

@@ -36,7 +36,11 @@ struct Rows {
 
   std::size_t size() const { return q.size(); }
   void clear();
-  // Appends a row with both Jacobian blocks zero; returns its index.
+  // n rows, each to be set before use (the rows in place keep their values).
+  void resize(std::size_t n);
+  // Sets row r anew: both Jacobian blocks zero, bounds, state and impulse those of a new row of its kind.
+  void set(int r, RowKind kind, int body0, int body1, std::uint64_t key);
+  // Appends a row set as by set(); returns its index.
   int add(RowKind kind, int body0, int body1, std::uint64_t key);
 };
 

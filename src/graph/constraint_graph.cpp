@@ -34,22 +34,38 @@ void build_constraint_graph(const Rows& rows, const Bodies& bodies, ConstraintGr
       g.mass.push_back(bodies.mass[i]);
     }
 
-  // One entry per row between two dynamic bodies, in both directions, then merged per pair (kept
-  // per thread, so that a warm step allocates nothing).
-  thread_local std::vector<Edge> half_edges;
-  half_edges.clear();
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const int a = rows.body[r][0] >= 0 ? g.node_of[rows.body[r][0]] : -1;
-    const int b = rows.body[r][1] >= 0 ? g.node_of[rows.body[r][1]] : -1;
-    if (a < 0 || b < 0 || a == b) continue;
-    const int w = starts_constraint(rows, r) ? 1 : 0;
-    half_edges.push_back({a, b, w, 1});
-    half_edges.push_back({b, a, w, 1});
-  }
-  std::sort(half_edges.begin(), half_edges.end(),
-            [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-
+  // One entry per row between two dynamic bodies, in both directions, bucketed by its first node
+  // (counting sort), each node's entries sorted by the other node, then merged per pair (scratch
+  // kept per thread, so that a warm step allocates nothing).
   const int n = g.node_count();
+  thread_local std::vector<int> start;
+  thread_local std::vector<Edge> half_edges;
+  start.assign(n + 1, 0);
+  const auto row_nodes = [&](std::size_t r, int& a, int& b) {
+    a = rows.body[r][0] >= 0 ? g.node_of[rows.body[r][0]] : -1;
+    b = rows.body[r][1] >= 0 ? g.node_of[rows.body[r][1]] : -1;
+    return a >= 0 && b >= 0 && a != b;
+  };
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    int a, b;
+    if (!row_nodes(r, a, b)) continue;
+    ++start[a + 1];
+    ++start[b + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  half_edges.resize(start[n]);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    int a, b;
+    if (!row_nodes(r, a, b)) continue;
+    const int w = starts_constraint(rows, r) ? 1 : 0;
+    half_edges[start[a]++] = {a, b, w, 1};
+    half_edges[start[b]++] = {b, a, w, 1};
+  }
+  // start[a] is now the end of node a's entries, the start of a + 1's.
+  for (int a = 0; a < n; ++a)
+    std::sort(half_edges.begin() + (a > 0 ? start[a - 1] : 0), half_edges.begin() + start[a],
+              [](const Edge& x, const Edge& y) { return x.b < y.b; });
+
   g.offset.assign(n + 1, 0);
   g.adjacency.clear();
   g.weight.clear();

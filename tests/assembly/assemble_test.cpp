@@ -9,7 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <tbb/task_arena.h>
+
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -445,6 +448,68 @@ TEST(Assemble, FixedJointRowsMeasureTheRelativeTurn) {
   t.move(2, Vec3::Zero(), turn);
   assemble({}, rest, t.bodies, params, rows);
   EXPECT_LE(angular_error(rows, t.bodies, params).norm(), 256 * kEps);
+}
+
+// The contacts are assembled in parallel, each into its own rows: the rows are the same bit for bit
+// on one thread and on several, warm started or not, with joints after the contacts.
+TEST(Assemble, RowsAreTheSameOnAnyNumberOfThreads) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Bodies b;
+  add_static(b, Vec3(0, 0, -1));
+  for (int k = 0; k < 40; ++k)
+    add_box(b, 1.0 + k, Vec3(0.2, 0.3, 0.1), Vec3(u(rng), u(rng), u(rng)),
+            Quat(Eigen::AngleAxisd(3 * u(rng), Vec3(u(rng), u(rng), 1).normalized())), 0.3 + 0.2 * u(rng));
+  randomise_velocities(b, rng);
+  std::vector<Contact> contacts;
+  for (std::uint64_t id = 0; id < 3000; ++id) {
+    const int a = 1 + static_cast<int>(rng() % 40), other = static_cast<int>(rng() % 41);
+    contacts.push_back(contact(a, other == a ? 0 : other, Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), 1),
+                               0.01 * u(rng), id));
+  }
+  JointDef def;
+  def.body_a = 1;
+  def.body_b = 2;
+  def.anchor = Vec3(0.1, 0.2, 0.3);
+  SceneDef scene;
+  scene.joints = {def};
+  const std::vector<JointFrame> joints = make_joint_frames(scene, b);
+  const auto in_arena = [&](int threads, const WarmStart& warm) {
+    Rows rows;
+    tbb::task_arena(threads).execute([&] { assemble(contacts, joints, b, StepParams{}, rows, warm); });
+    return rows;
+  };
+  const auto expect_same = [](const Rows& x, const Rows& y) {
+    ASSERT_EQ(x.size(), y.size());
+    EXPECT_EQ(x.body, y.body);
+    EXPECT_EQ(x.kind, y.kind);
+    EXPECT_EQ(x.normal_of, y.normal_of);
+    EXPECT_EQ(x.key, y.key);
+    EXPECT_EQ(x.state, y.state);
+    for (std::size_t r = 0; r < x.size(); ++r) {
+      ASSERT_TRUE(x.jac[r][0] == y.jac[r][0] && x.jac[r][1] == y.jac[r][1]) << "row " << r;
+      for (const auto field : {&Rows::q, &Rows::lo, &Rows::hi, &Rows::sigma, &Rows::mu, &Rows::lambda})
+        ASSERT_EQ(std::memcmp(&((x.*field)[r]), &((y.*field)[r]), sizeof(double)), 0) << "row " << r;
+    }
+  };
+  Rows serial = in_arena(1, WarmStart{});
+  ASSERT_EQ(serial.size(), 3 * contacts.size() + 3);
+  expect_same(serial, in_arena(3, WarmStart{}));
+  // Warm started from impulses and states of the rows above, every other contact gone.
+  const RowState states[] = {RowState::Free, RowState::Lower, RowState::Upper};
+  for (std::size_t r = 0; r < serial.size(); ++r) {
+    serial.lambda[r] = u(rng);
+    serial.state[r] = states[rng() % 3];
+  }
+  WarmStart warm;
+  warm.store(serial);
+  for (std::size_t k = 0; k < contacts.size() / 2; ++k) contacts[k] = contacts[2 * k];
+  contacts.resize(contacts.size() / 2);
+  const Rows warm_serial = in_arena(1, warm);
+  expect_same(warm_serial, in_arena(3, warm));
+  int warmed = 0;
+  for (std::size_t r = 0; r < warm_serial.size(); ++r) warmed += warm_serial.lambda[r] != 0;
+  EXPECT_GT(warmed, static_cast<int>(warm_serial.size()) / 2);
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 // The constraint graph against hand-counted examples and structural properties on random rows.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
+#include <utility>
 
 #include "assembly/assemble.hpp"
 #include "graph/constraint_graph.hpp"
@@ -66,6 +68,7 @@ TEST(ConstraintGraph, RandomRowsGiveASymmetricGraphConsistentWithIslands) {
     Rows rows;
     const int constraints = static_cast<int>(rng() % 60);
     int expected_weight = 0;
+    std::map<std::pair<int, int>, std::pair<int, int>> pair_count;  // (body, body) -> (constraints, rows)
     for (int c = 0; c < constraints; ++c) {
       const int a = static_cast<int>(rng() % n), b = static_cast<int>(rng() % (n + 1)) - 1;
       if (b == a || is_static[a]) continue;
@@ -73,6 +76,12 @@ TEST(ConstraintGraph, RandomRowsGiveASymmetricGraphConsistentWithIslands) {
       if (rng() % 3 == 0) add_ball_joint(rows, a, bb, c);
       else add_contact(rows, a, bb, c);
       expected_weight += bb >= 0;
+      if (bb >= 0) {
+        for (const auto& key : {std::make_pair(a, bb), std::make_pair(bb, a)}) {
+          ++pair_count[key].first;
+          pair_count[key].second += 3;
+        }
+      }
     }
     ConstraintGraph g;
     build_constraint_graph(rows, bodies, g);
@@ -92,6 +101,16 @@ TEST(ConstraintGraph, RandomRowsGiveASymmetricGraphConsistentWithIslands) {
       }
     }
     EXPECT_EQ(total_weight, 2 * expected_weight);
+    // Every pair's edge, counted by hand.
+    std::size_t edges = 0;
+    for (int i = 0; i < g.node_count(); ++i)
+      for (int e = g.offset[i]; e < g.offset[i + 1]; ++e, ++edges) {
+        const auto it = pair_count.find({g.body_of[i], g.body_of[g.adjacency[e]]});
+        ASSERT_TRUE(it != pair_count.end());
+        EXPECT_EQ(g.weight[e], it->second.first);
+        EXPECT_EQ(g.rows[e], it->second.second);
+      }
+    EXPECT_EQ(edges, pair_count.size());
     // Edges never join two islands.
     Islands islands;
     build_islands(rows, n, islands);
