@@ -135,11 +135,15 @@ bool WarmStart::find(std::uint64_t key, double& lambda, RowState& state) const {
   return true;
 }
 
-Vec3 WarmStart::friction_impulse(std::uint64_t contact_id) const {
-  Vec3 f = Vec3::Zero();
-  for (int k = 1; k <= 2; ++k)
-    if (const Entry* e = lookup(contact_row_key(contact_id, k))) f += e->lambda * e->direction;
-  return f;
+void WarmStart::find_contact(std::uint64_t contact_id, const Entry* (&rows)[3]) const {
+  const std::uint64_t first = contact_row_key(contact_id, 0);
+  auto it = std::lower_bound(entries_.begin(), entries_.end(), first,
+                             [](const Entry& e, std::uint64_t k) { return e.key < k; });
+  for (int k = 0; k < 3; ++k) {
+    const bool found = it != entries_.end() && it->key == first + static_cast<std::uint64_t>(k);
+    rows[k] = found ? &*it : nullptr;
+    if (found) ++it;
+  }
 }
 
 void append_joint_rows(const std::vector<JointFrame>& joints, const Bodies& bodies, Rows& rows) {
@@ -227,7 +231,13 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
     const Vec3 t1 = speed > params.sliding_velocity_eps ? Vec3(vt / speed) : perpendicular(c.normal);
     const Vec3 t2 = c.normal.cross(t1);
     const double mu = std::sqrt(bodies.friction[a] * bodies.friction[c.body_b]);
-    const Vec3 f_warm = warm.friction_impulse(c.id);
+    // The last step's impulses and states; friction's as the world-frame impulse it applied,
+    // projected on the new tangents.
+    const WarmStart::Entry* last[3];
+    warm.find_contact(c.id, last);
+    Vec3 f_warm = Vec3::Zero();
+    for (int k = 1; k <= 2; ++k)
+      if (last[k]) f_warm += last[k]->lambda * last[k]->direction;
     const Vec3 tangents[2] = {t1, t2};
     for (int k = 0; k < 2; ++k) {
       const int r = n_row + 1 + k;
@@ -236,17 +246,13 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
       if (b >= 0) rows.jac[r][1] = -point_jacobian(tangents[k], rb);
       rows.normal_of[r] = n_row;
       rows.mu[r] = mu;
-      double lambda;
-      RowState state;
-      if (warm.find(rows.key[r], lambda, state)) rows.state[r] = state;
+      if (last[k + 1]) rows.state[r] = last[k + 1]->state;
       rows.lambda[r] = f_warm.dot(tangents[k]);
     }
     rows.q[n_row] = bias;
-    double lambda;
-    RowState state;
-    if (warm.find(rows.key[n_row], lambda, state)) {
-      rows.lambda[n_row] = lambda;
-      rows.state[n_row] = state;
+    if (last[0]) {
+      rows.lambda[n_row] = last[0]->lambda;
+      rows.state[n_row] = last[0]->state;
     }
   });
 

@@ -28,19 +28,20 @@ std::vector<JointFrame> make_joint_frames(const SceneDef& scene, const Bodies& b
 // Previous step's solution, looked up by row key (sorted for binary search; reused buffers).
 class WarmStart {
  public:
-  void store(const Rows& rows);
-  // Returns false if the key was not solved last step.
-  bool find(std::uint64_t key, double& lambda, RowState& state) const;
-  // World-frame friction impulse of a contact last step (zero if unknown).
-  Vec3 friction_impulse(std::uint64_t contact_id) const;
-
- private:
   struct Entry {
     std::uint64_t key;
     double lambda;
     RowState state;
     Vec3 direction;  // friction rows: the tangent the impulse was applied along
   };
+  void store(const Rows& rows);
+  // Returns false if the key was not solved last step.
+  bool find(std::uint64_t key, double& lambda, RowState& state) const;
+  // A contact's rows of the last step, normal and friction 1, 2 (null where absent): their keys are
+  // adjacent, so one search finds the three.
+  void find_contact(std::uint64_t contact_id, const Entry* (&rows)[3]) const;
+
+ private:
   const Entry* lookup(std::uint64_t key) const;
   std::vector<Entry> entries_;
 };
