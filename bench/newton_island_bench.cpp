@@ -1,8 +1,8 @@
 // The Newton solver (solve/newton.hpp) on one random contact-like island (solve/random_blcp.hpp: n
 // rows on ~n/10 bodies of a 3-D lattice, each row touching at most two neighbouring bodies; contacts
 // with friction coupled to their normal, some bilateral and box rows; sigma a 1e-6 floor), on the
-// monolithic backend factored dense (Cholesky / LU of the body-space system) or sparse (CHOLMOD /
-// KLU): where dense_max_bodies should lie. Timed per solve: assigning the backend (the pattern and
+// monolithic backend factored dense (Cholesky / LU of the body-space system) or sparse (the block
+// LU of block_lu.hpp): where dense_max_bodies should lie. Timed per solve: assigning the backend (the pattern and
 // its symbolic analysis) and the solve. cold: from zero impulses, every row free; warm: from the
 // answer of a previous (untimed) solve and its states, as in a resting step. Counters: rows,
 // bodies, factorisations, the time of one factorisation (ms), and whether the solve settled

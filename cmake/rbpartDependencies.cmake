@@ -3,7 +3,7 @@
 # embeds the library links exactly what the library was built against:
 #   Eigen3::Eigen, TBB::tbb, ZLIB::ZLIB     their own CMake packages
 #   PkgConfig::RBPART_BULLET                Bullet in double precision (pkg-config bullet-float64)
-#   rbpart::suitesparse                     CHOLMOD and the SuiteSparse libraries under it
+#   rbpart::suitesparse                     SuiteSparse's AMD ordering (solve/block_lu.cpp)
 #   rbpart::metis                           METIS
 find_package(Eigen3 3.3 REQUIRED CONFIG)
 find_package(TBB REQUIRED CONFIG)
@@ -14,15 +14,15 @@ if(NOT TARGET PkgConfig::RBPART_BULLET)
 endif()
 
 if(NOT TARGET rbpart::suitesparse)
-  find_path(RBPART_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+  find_path(RBPART_AMD_INCLUDE_DIR amd.h PATH_SUFFIXES suitesparse REQUIRED)
   set(rbpart_suitesparse_libraries "")
-  foreach(lib klu btf cholmod amd colamd camd ccolamd suitesparseconfig)
+  foreach(lib amd suitesparseconfig)
     find_library(RBPART_SUITESPARSE_${lib} ${lib} REQUIRED)
     list(APPEND rbpart_suitesparse_libraries ${RBPART_SUITESPARSE_${lib}})
   endforeach()
   add_library(rbpart::suitesparse INTERFACE IMPORTED)
   set_target_properties(rbpart::suitesparse PROPERTIES
-    INTERFACE_INCLUDE_DIRECTORIES "${RBPART_CHOLMOD_INCLUDE_DIR}"
+    INTERFACE_INCLUDE_DIRECTORIES "${RBPART_AMD_INCLUDE_DIR}"
     INTERFACE_LINK_LIBRARIES "${rbpart_suitesparse_libraries}")
 endif()
 

@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libbullet-dev libtbb-dev libsuitesparse-dev libopenblas0-pthread libmetis-dev
+  libeigen3-dev libbullet-dev libtbb-dev libsuitesparse-dev libmetis-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   zlib1g-dev libcpp-httplib-dev  # recordings (gzip), `rbpart view`'s server
   chromium                       # `rbpart snapshot` and the viewer's end-to-end test

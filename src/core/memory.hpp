@@ -1,5 +1,5 @@
 #pragma once
-// The step's buffers (island systems, body-space matrices, CHOLMOD and KLU factors) are sized by
+// The step's buffers (island systems, body-space matrices and their factors) are sized by
 // the islands, which change every step, so they are allocated and freed every step. glibc returns
 // large freed blocks to the kernel (mmap threshold, heap trimming), and the next step faults every
 // page back in, zeroed: on a resting 200-rock pile that was three quarters of the solve. Keeping

@@ -44,10 +44,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodi
   inv_s_.assign(nr, 0.0);
   tie_weight_.assign(nr, 0.0);
   assembled_ = factored_ = false;
-  if (same_pattern) {  // the blocks' slots hold as well
-    n_.keep_pattern();
-    return;
-  }
+  if (same_pattern) return;  // the blocks' slots hold as well
   cliques_ = cliques;
   assign_pattern(cliques, dense_max_bodies);
   diagonal_.resize(nb);

@@ -2,11 +2,10 @@
 // Per-island state of the Newton solver kept from one step to the next (DESIGN.md §3: symbolic
 // analysis reused across iterations and steps, no allocation per step once warm), for either
 // backend. An island is matched to the last step's by its first body. When its body-space patterns
-// are unchanged (a resting island; for the substructured backend also the same parts), its CHOLMOD
-// or KLU analyses are reused (KLU's pivots are searched afresh: pattern_factor.hpp); its buffers
-// keep their capacity either way, so that a step whose islands keep their bodies and contacts
-// allocates nothing of its own (SuiteSparse allocates KLU's numeric factors and CHOLMOD's copies:
-// tests/step/warm_step_test.cpp).
+// are unchanged (a resting island; for the substructured backend also the same parts), their block
+// LU analyses (order and fill: block_lu.hpp) are reused; its buffers keep their capacity either
+// way, so that a step whose islands keep their bodies and contacts allocates nothing
+// (tests/step/warm_step_test.cpp).
 #include "graph/islands.hpp"
 #include "solve/island_system.hpp"
 #include "solve/monolithic.hpp"

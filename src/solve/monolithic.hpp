@@ -1,8 +1,8 @@
 #pragma once
 // The monolithic backend of the Newton solver's linear algebra (linear_system.hpp, DESIGN.md §3):
 // the whole island factored in body space (body_space.hpp: N u = h over every body and row,
-// symmetric by Cholesky when no row is tied, else by LU; dense for islands of at most
-// dense_max_bodies bodies, else CHOLMOD / KLU).
+// dense for islands of at most dense_max_bodies bodies, by Cholesky when no row is tied, else by LU;
+// larger ones by the block sparse LU of block_lu.hpp).
 #include "solve/body_space.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"

@@ -6,6 +6,8 @@
 #include <type_traits>
 
 #include "core/validate.hpp"
+
+#include <Eigen/SparseCore>
 #include "solve/solve_check.hpp"
 
 namespace rbpart {
@@ -16,56 +18,33 @@ void PatternFactor::assign_dense(int n) {
   dense_values_.setZero(n, n);
 }
 
-void PatternFactor::assign_sparse(int n, std::vector<int> colptr, std::vector<int> rowind) {
-  // The same pattern keeps its arrays, whose addresses the analyses hold, and the analyses.
-  if (!dense_ && n == n_ && colptr == colptr_ && rowind == rowind_) {
-    keep_pattern();
-    return;
-  }
-  n_ = n;
-  dense_ = false;
-  colptr_ = std::move(colptr);
-  rowind_ = std::move(rowind);
-  values_.assign(rowind_.size(), 0.0);
-  cholmod_ready_ = klu_ready_ = false;
-}
-
 void PatternFactor::assign_blocks(int blocks, const std::vector<std::array<int, 2>>& pairs, int dense_max_blocks) {
   if (blocks <= dense_max_blocks) {
     assign_dense(6 * blocks);
     return;
   }
-  adjacent_start_.assign(blocks + 1, 0);
-  adjacent_.resize(pairs.size());
+  std::vector<int> start(blocks + 1, 0), adjacent(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    ++adjacent_start_[pairs[k][0] + 1];
-    adjacent_[k] = pairs[k][1];
+    ++start[pairs[k][0] + 1];
+    adjacent[k] = pairs[k][1];
   }
-  for (int b = 0; b < blocks; ++b) adjacent_start_[b + 1] += adjacent_start_[b];
-  // Column 6c + k holds the six rows of each adjacent block, in order.
-  std::vector<int> colptr(1, 0), rowind;
-  for (int c = 0; c < blocks; ++c)
-    for (int k = 0; k < 6; ++k) {
-      for (int a = adjacent_start_[c]; a < adjacent_start_[c + 1]; ++a)
-        for (int i = 0; i < 6; ++i) rowind.push_back(6 * adjacent_[a] + i);
-      colptr.push_back(static_cast<int>(rowind.size()));
-    }
-  assign_sparse(6 * blocks, std::move(colptr), std::move(rowind));
+  for (int b = 0; b < blocks; ++b) start[b + 1] += start[b];
+  // The same pattern keeps its analysis.
+  if (!dense_ && n_ == 6 * blocks && start == adjacent_start_ && adjacent == adjacent_) return;
+  n_ = 6 * blocks;
+  dense_ = false;
+  adjacent_start_ = std::move(start);
+  adjacent_ = std::move(adjacent);
+  values_.assign(36 * adjacent_.size(), 0.0);
+  analysed_ = false;
 }
 
 PatternFactor::Slot PatternFactor::slot(int r, int c) const {
-  const int start = column_start(6 * c), stride = column_start(6 * c + 1) - start;
-  int position = r;
-  if (!dense_) {
-    const int* first = adjacent_.data() + adjacent_start_[c];
-    const int* last = adjacent_.data() + adjacent_start_[c + 1];
-    position = static_cast<int>(std::lower_bound(first, last, r) - first);
-  }
-  return {start + 6 * position, stride};
-}
-
-void PatternFactor::keep_pattern() {
-  if (klu_ready_) klu_.repivot();
+  if (dense_) return {n_ * 6 * c + 6 * r, n_};
+  // Pairs are stored by block column, each block's 36 entries column-major.
+  const int* first = adjacent_.data() + adjacent_start_[c];
+  const int* last = adjacent_.data() + adjacent_start_[c + 1];
+  return {36 * static_cast<int>(std::lower_bound(first, last, r) - adjacent_.data()), 6};
 }
 
 void PatternFactor::set_zero() {
@@ -86,17 +65,15 @@ bool PatternFactor::factor(bool symmetric) {
     const double pivot = plu_.matrixLU().diagonal().cwiseAbs().minCoeff();
     return std::isfinite(pivot) && pivot > 0;
   }
-  const CscView view{n_, colptr_.data(), rowind_.data(), values_.data()};
-  if (!lu_) {
-    if (!cholmod_ready_) cholmod_.analyze(view);
-    cholmod_ready_ = true;
-    if (cholmod_.factorize()) return true;
-    lu_ = true;
-  }
-  if (!klu_ready_ || klu_interior_ != -1) klu_.analyze(view);
-  klu_ready_ = true;
-  klu_interior_ = -1;
-  return klu_.factorize();
+  lu_ = true;
+  analyse(-1);
+  return block_lu_.factor(values_.data());
+}
+
+void PatternFactor::analyse(int interior_blocks) {
+  if (analysed_ && block_lu_.interior() == interior_blocks) return;
+  block_lu_.analyze(n_ / 6, adjacent_start_, adjacent_, interior_blocks);
+  analysed_ = true;
 }
 
 bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
@@ -124,17 +101,14 @@ bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
     schur.noalias() -= l_ki_ * u_ik_;
     return schur.allFinite();
   }
-  const CscView view{n_, colptr_.data(), rowind_.data(), values_.data()};
-  if (!klu_ready_ || klu_interior_ != interior) klu_.analyze(view, interior);
-  klu_ready_ = true;
-  klu_interior_ = interior;
-  if (!klu_.factorize()) return false;
-  return klu_.trailing_schur(schur.data()) && schur.allFinite();
+  if (interior % 6 != 0) throw std::invalid_argument("PatternFactor::factor_schur: a sparse interior of part of a block");
+  analyse(interior / 6);
+  return block_lu_.factor_schur(values_.data(), schur);
 }
 
 void PatternFactor::forward_interior(double* b) {
   if (!dense_) {
-    klu_.forward_interior(b);
+    block_lu_.forward_interior(b);
     return;
   }
   const int k = n_ - interior_;
@@ -150,7 +124,7 @@ void PatternFactor::forward_interior(double* b) {
 
 void PatternFactor::back_interior(double* b, const double* u_k) {
   if (!dense_) {
-    klu_.back_interior(b, u_k);
+    block_lu_.back_interior(b, u_k);
     return;
   }
   const int k = n_ - interior_;
@@ -164,7 +138,7 @@ void PatternFactor::back_interior(double* b, const double* u_k) {
 }
 
 void PatternFactor::solve(double* x, int columns) {
-  // factor_schur() factors A_II (dense) or A with K's rows scaled (sparse), not A.
+  // factor_schur() factors A_II, not A.
   if (schur_) throw std::logic_error("PatternFactor::solve after factor_schur");
   // Nothing to solve; Eigen's triangular solve would bind a reference to an empty map's null data.
   if (columns == 0) return;
@@ -192,12 +166,18 @@ void PatternFactor::solve(double* x, int columns) {
     RBPART_CHECK(solve_violation(dense_values_, Eigen::Map<const Eigen::MatrixXd>(x, n_, columns), rhs));
     return;
   }
-  // CHOLMOD and KLU check their own solves.
-  if (lu_) {
-    klu_.solve(x, columns);
-    return;
+  Eigen::MatrixXd rhs;
+  if constexpr (kValidate) rhs = Eigen::Map<const Eigen::MatrixXd>(x, n_, columns);
+  for (int c = 0; c < columns; ++c) block_lu_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
+  if constexpr (kValidate) {  // against the values as they are now
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int c = 0; c < n_ / 6; ++c)
+      for (int a = adjacent_start_[c]; a < adjacent_start_[c + 1]; ++a)
+        for (int k = 0; k < 36; ++k) entries.emplace_back(6 * adjacent_[a] + k % 6, 6 * c + k / 6, values_[36 * a + k]);
+    Eigen::SparseMatrix<double> a(n_, n_);
+    a.setFromTriplets(entries.begin(), entries.end());
+    RBPART_CHECK(solve_violation(a, Eigen::Map<const Eigen::MatrixXd>(x, n_, columns), rhs));
   }
-  for (int c = 0; c < columns; ++c) cholmod_.solve(x + static_cast<std::ptrdiff_t>(c) * n_);
 }
 
 }  // namespace rbpart

@@ -1,7 +1,6 @@
 #pragma once
 // Validate builds' check of a solve with a factorisation kept from earlier (core/validate.hpp):
-// CHOLMOD's and KLU's symbolic analyses kept per pattern, KLU's pivot order kept
-// across refactorisations, any factor kept across solves. The solution must satisfy the matrix the
+// the block LU's order and fill kept per pattern, any factor kept across solves. The solution must satisfy the matrix the
 // factor stands for now, to a normwise backward error of 1e-8 (infinity norms, per column):
 //   ||A x - b|| <= 1e-8 (||A|| ||x|| + ||b||).
 // A backward-stable solve with a factor of A itself passes with digits to spare (about n eps,

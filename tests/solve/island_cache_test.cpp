@@ -1,6 +1,6 @@
 // The Newton solver's per-island state kept across steps (solve/island_cache.hpp): slots follow an
-// island's first body, and a backend assigned again - to the same pattern, keeping its analyses and
-// KLU's pivot order, or to another - still solves every piece as a dense LU of its equations does.
+// island's first body, and a backend assigned again - to the same pattern, keeping its analysis, or
+// to another - still solves every piece as a dense LU of its equations does.
 #include "solve/island_cache.hpp"
 #include "solve/box_scenes.hpp"
 #include "solve/random_piece.hpp"
@@ -52,14 +52,14 @@ Scene stack(double middle_mass, int boxes) {
 TEST(IslandCache, ABackendAssignedAgainSolvesLikeADenseSolve) {
   std::mt19937 rng(11);
   MonolithicSystem system;  // one backend, as a slot keeps it from step to step
-  // The same pattern with other values (kept analyses, KLU refactoring with the last pivots),
+  // The same pattern with other values (the kept analysis),
   // then other patterns (fewer bodies), then the first again.
   const Scene scenes[] = {stack(1000, 3), stack(10, 3), stack(1e4, 3), stack(100, 2), stack(1, 3)};
   for (const Scene& scene : scenes) {
     const std::vector<int> local = local_row_index(scene.rows, scene.islands);
     IslandSystem s;
     s.gather(scene.rows, scene.bodies, scene.islands, 0, local);
-    system.assign(s, 0);  // sparse: CHOLMOD and KLU
+    system.assign(s, 0);  // sparse: the block LU
     for (bool ties : {false, true, true}) {
       const Piece piece = random_piece(s, rng, ties);
       ASSERT_TRUE(system.factor(piece));

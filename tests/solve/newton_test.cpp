@@ -36,7 +36,7 @@ Scene stack(bool sliding) {
   return s;
 }
 
-// The dense (Cholesky / LU) and sparse (CHOLMOD / KLU) body-space backends solve E x = g as a
+// The dense (Cholesky / LU) and sparse (block LU) body-space backends solve E x = g as a
 // dense LU of E does, to the digits the small regularisation leaves (A's condition ~ 1e6 here).
 TEST(MonolithicSystem, SolvesEveryKindOfPieceLikeADenseSolve) {
   Scene scene = stack(true);
@@ -169,7 +169,7 @@ TEST(SolveNewton, ResidualShowsALightBodysErrorBesideAHeavyOne) {
 }
 
 // Two islands, one resting and one sliding, through the dense (Cholesky / LU) and the sparse
-// (CHOLMOD / KLU) backends: the same answer to the digits the regularisation leaves, the same
+// (block LU) backends: the same answer to the digits the regularisation leaves, the same
 // states, and the report's residual is the one natural_map_residual measures. Warm started from
 // its own answer, the solve settles with no factorisation.
 TEST(SolveNewton, TwoIslandsDenseAndSparseBackendsAgree) {

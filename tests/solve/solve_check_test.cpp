@@ -1,6 +1,6 @@
 // solve_violation, the validate builds' check of solves with kept factorisations: it passes a
 // solve by a factor of the matrix itself and names one by a factor of another (stale) matrix; and,
-// in validate builds, CHOLMOD, KLU and the dense factor throw from a solve after their matrix changed.
+// in validate builds, the dense and the block sparse factor throw from a solve after their matrix changed.
 #include "solve/solve_check.hpp"
 
 #include <gtest/gtest.h>
@@ -9,18 +9,18 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/validate.hpp"
 #include "solve/pattern_factor.hpp"
-#include "solve/sparse_factor.hpp"
 
 namespace rbpart {
 namespace {
 
-// The tridiagonal matrix 4, -1 of size n, symmetric positive definite, both triangles stored.
+// The tridiagonal matrix 4, -1 of size n, symmetric positive definite, in compressed columns.
 struct Tridiagonal {
   int n;
   std::vector<int> colptr{0}, rowind;
@@ -34,7 +34,6 @@ struct Tridiagonal {
       colptr.push_back(static_cast<int>(rowind.size()));
     }
   }
-  CscView view() const { return {n, colptr.data(), rowind.data(), values.data()}; }
   Eigen::MatrixXd dense() const {
     Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
     for (int c = 0; c < n; ++c)
@@ -67,37 +66,36 @@ TEST(SolveCheck, PassesAFactorOfTheMatrixAndNamesAStaleOne) {
   EXPECT_EQ(solve_violation(t.dense(), xs.col(1), b), "");
 }
 
-// Each factorisation answers correctly while its matrix is the one it factored; after the matrix
-// changes without a refactorisation, a validate build's solve throws.
+// Each factorisation (dense, and the block sparse LU) answers correctly while its matrix is the one
+// it factored; after the matrix changes without a refactorisation, a validate build's solve throws.
 TEST(SolveCheck, ValidateBuildsRejectASolveWithAStaleFactor) {
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(30, -1.0, 2.0);
-  auto solve = [&](auto& factor) {
+  auto solve = [&](PatternFactor& factor) {
     Eigen::VectorXd x = b;
     factor.solve(x.data());
     return x;
   };
-  Tridiagonal chol_matrix(30), klu_matrix(30), dense_matrix(30);
-  CholmodFactor chol;
-  chol.analyze(chol_matrix.view());
-  ASSERT_TRUE(chol.factorize());
-  KluFactor klu;
-  klu.analyze(klu_matrix.view());
-  ASSERT_TRUE(klu.factorize());
-  PatternFactor dense;
-  dense.assign_dense(30);
-  Eigen::Map<Eigen::MatrixXd>(dense.values(), 30, 30) = dense_matrix.dense();
-  ASSERT_TRUE(dense.factor(true));
-  const Eigen::VectorXd expected = dense_matrix.dense().llt().solve(b);
-  EXPECT_LT((solve(chol) - expected).norm(), 1e-12);
-  EXPECT_LT((solve(klu) - expected).norm(), 1e-12);
+  const Tridiagonal matrix(30);
+  const Eigen::MatrixXd a = matrix.dense();
+  // Five bodies in a chain: the tridiagonal matrix's blocks.
+  std::vector<std::array<int, 2>> pairs;
+  for (int r = 0; r < 5; ++r)
+    for (int c = std::max(0, r - 1); c <= std::min(4, r + 1); ++c) pairs.push_back({r, c});
+  PatternFactor dense, sparse;
+  dense.assign_blocks(5, pairs, 5);
+  sparse.assign_blocks(5, pairs, 0);
+  ASSERT_TRUE(dense.dense() && !sparse.dense());
+  for (PatternFactor* f : {&dense, &sparse}) {
+    for (const auto& [r, c] : pairs) f->block(r, c) = a.block<6, 6>(6 * r, 6 * c);
+    ASSERT_TRUE(f->factor(true));
+  }
+  const Eigen::VectorXd expected = a.llt().solve(b);
   EXPECT_LT((solve(dense) - expected).norm(), 1e-12);
+  EXPECT_LT((solve(sparse) - expected).norm(), 1e-12);
   if (!kValidate) GTEST_SKIP() << "the checks are compiled in with RBPART_VALIDATE only";
-  chol_matrix.change();
-  klu_matrix.change();
-  Eigen::Map<Eigen::MatrixXd>(dense.values(), 30, 30).diagonal() *= 2.0;
-  EXPECT_THROW(solve(chol), std::logic_error);
-  EXPECT_THROW(solve(klu), std::logic_error);
+  for (PatternFactor* f : {&dense, &sparse}) f->block(2, 2).diagonal() *= 2.0;
   EXPECT_THROW(solve(dense), std::logic_error);
+  EXPECT_THROW(solve(sparse), std::logic_error);
 }
 
 }  // namespace

@@ -1,10 +1,8 @@
 // A warm step allocates nothing of its own (DESIGN.md §3: no allocation per step once warm): the
 // solve stage given the same problem again, with its island cache, and a World stepping a pile at
-// rest make no heap call but SuiteSparse's (KLU's numeric factor of a step's first LU, which pivots
-// afresh; CHOLMOD's permuted copy of the matrix). Counted by interposing malloc, calloc and realloc
-// in this test program, so that Eigen's and the standard library's allocations count as well as
-// operator new's; SuiteSparse's go through its configured allocator, which marks them. Not under
-// the sanitizers, which interpose malloc themselves.
+// rest make no heap call at all. Counted by interposing malloc, calloc and realloc in this test
+// program, so that Eigen's and the standard library's allocations count as well as operator new's.
+// Not under the sanitizers, which interpose malloc themselves.
 #include "partition/partition.hpp"
 #include "scenes/scenes.hpp"
 #include "solve/island_cache.hpp"
@@ -17,8 +15,6 @@
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
-
-#include <suitesparse/SuiteSparse_config.h>
 
 #include <atomic>
 #include <cstddef>
@@ -34,10 +30,9 @@ namespace {
 
 std::atomic<bool> counting{false};
 std::atomic<long> ours{0};
-thread_local bool in_suitesparse = false;
 
 void count_one() {
-  if (counting.load(std::memory_order_relaxed) && !in_suitesparse) ours.fetch_add(1, std::memory_order_relaxed);
+  if (counting.load(std::memory_order_relaxed)) ours.fetch_add(1, std::memory_order_relaxed);
 }
 
 }  // namespace
@@ -64,38 +59,6 @@ extern "C" void* realloc(void* p, std::size_t n) {
 
 namespace rbpart {
 namespace {
-
-// SuiteSparse's allocations, marked as its own while they run.
-struct SuiteSparseMarked {
-  static void* malloc_fn(std::size_t n) {
-    in_suitesparse = true;
-    void* p = std::malloc(n);
-    in_suitesparse = false;
-    return p;
-  }
-  static void* calloc_fn(std::size_t count, std::size_t n) {
-    in_suitesparse = true;
-    void* p = std::calloc(count, n);
-    in_suitesparse = false;
-    return p;
-  }
-  static void* realloc_fn(void* p, std::size_t n) {
-    in_suitesparse = true;
-    void* q = std::realloc(p, n);
-    in_suitesparse = false;
-    return q;
-  }
-  SuiteSparseMarked() {
-    SuiteSparse_config.malloc_func = malloc_fn;
-    SuiteSparse_config.calloc_func = calloc_fn;
-    SuiteSparse_config.realloc_func = realloc_fn;
-  }
-  ~SuiteSparseMarked() {
-    SuiteSparse_config.malloc_func = std::malloc;
-    SuiteSparse_config.calloc_func = std::calloc;
-    SuiteSparse_config.realloc_func = std::realloc;
-  }
-};
 
 // Our heap calls while fn() runs.
 template <class Fn>
@@ -140,7 +103,6 @@ class WarmStep : public ::testing::Test {
   // One thread: a TBB worker joining for the first time sets up its own state, and which thread
   // first meets which island or pair (and grows its buffers) is up to the scheduler.
   tbb::global_control one_thread{tbb::global_control::max_allowed_parallelism, 1};
-  SuiteSparseMarked marked;
 };
 
 TEST_F(WarmStep, TheDirectSolverAllocatesNothingOnAStepItHasSeen) {
