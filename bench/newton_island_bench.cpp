@@ -1,8 +1,7 @@
 // The Newton solver (solve/newton.hpp) on one random contact-like island (solve/random_blcp.hpp: n
 // rows on ~n/10 bodies of a 3-D lattice, each row touching at most two neighbouring bodies; contacts
 // with friction coupled to their normal, some bilateral and box rows; sigma a 1e-6 floor), on the
-// monolithic backend factored dense (Cholesky / LU of the body-space system) or sparse (the block
-// LU of block_lu.hpp): where dense_max_bodies should lie. Timed per solve: assigning the backend (the pattern and
+// monolithic backend (the body-space system factored by the block LU of block_lu.hpp). Timed per solve: assigning the backend (the pattern and
 // its symbolic analysis) and the solve. cold: from zero impulses, every row free; warm: from the
 // answer of a previous (untimed) solve and its states, as in a resting step. Counters: rows,
 // bodies, factorisations, the time of one factorisation (ms), and whether the solve settled
@@ -36,16 +35,15 @@ const testing::RandomIsland& island(int rows) {
   return it->second;
 }
 
-void BM_Newton(benchmark::State& st, bool dense, bool warm) {
+void BM_Newton(benchmark::State& st, bool warm) {
   const IslandSystem& s = island(static_cast<int>(st.range(0))).system;
-  const int dense_max_bodies = dense ? s.bodies : 0;
   const int budget = SolverParams{}.max_factorizations;
   Eigen::VectorXd start = Eigen::VectorXd::Zero(s.rows);
   std::vector<RowState> start_state(s.rows, RowState::Free);
   NewtonWorkspace ws;
   if (warm) {  // the answer and its states, from an untimed solve
     MonolithicSystem system;
-    system.assign(s, dense_max_bodies);
+    system.assign(s);
     solve_newton(s, system, budget, start, start_state, ws);
   }
   NewtonResult last;
@@ -53,7 +51,7 @@ void BM_Newton(benchmark::State& st, bool dense, bool warm) {
     Eigen::VectorXd lambda = start;
     std::vector<RowState> state = start_state;
     MonolithicSystem system;
-    system.assign(s, dense_max_bodies);
+    system.assign(s);
     last = solve_newton(s, system, budget, lambda, state, ws);
     benchmark::DoNotOptimize(lambda.data());
   }
@@ -70,10 +68,8 @@ void sizes(benchmark::internal::Benchmark* b, int largest) {
   b->Unit(benchmark::kMillisecond);
 }
 
-BENCHMARK_CAPTURE(BM_Newton, dense_cold, true, false)->Apply([](auto* b) { sizes(b, 1000); });
-BENCHMARK_CAPTURE(BM_Newton, sparse_cold, false, false)->Apply([](auto* b) { sizes(b, 2000); });
-BENCHMARK_CAPTURE(BM_Newton, dense_warm, true, true)->Apply([](auto* b) { sizes(b, 1000); });
-BENCHMARK_CAPTURE(BM_Newton, sparse_warm, false, true)->Apply([](auto* b) { sizes(b, 2000); });
+BENCHMARK_CAPTURE(BM_Newton, cold, false)->Apply([](auto* b) { sizes(b, 2000); });
+BENCHMARK_CAPTURE(BM_Newton, warm, true)->Apply([](auto* b) { sizes(b, 2000); });
 
 }  // namespace
 }  // namespace rbpart

@@ -106,7 +106,7 @@ void BM_NewtonReplay(benchmark::State& state, const std::string& name) {
         IslandSystem s;
         s.gather(p.rows, p.bodies, p.islands, static_cast<int>(i), p.local_rows);
         MonolithicSystem system;
-        system.assign(s, params.dense_max_bodies);
+        system.assign(s);
         Eigen::VectorXd lambda;
         std::vector<RowState> row_state;
         island_warm_start(s, p.rows, lambda, row_state);

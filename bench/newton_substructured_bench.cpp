@@ -72,7 +72,7 @@ const Pile& pile(Scene scene) {
     pile->island.gather(step.rows, step.bodies, step.islands, order[0], local_row_index(step.rows, step.islands));
     const IslandSystem& s = pile->island;
     RecordingSystem recorder;
-    recorder.system.assign(s, SolverParams{}.dense_max_bodies);
+    recorder.system.assign(s);
     Eigen::VectorXd lambda;
     std::vector<RowState> state;
     island_warm_start(s, step.rows, lambda, state);
@@ -101,7 +101,7 @@ std::vector<const Piece*> sequence(const Pile& p, bool all_parts) {
 void BM_Monolithic(benchmark::State& state, Scene scene) {
   const Pile& p = pile(scene);
   MonolithicSystem system;
-  system.assign(p.island, SolverParams{}.dense_max_bodies);
+  system.assign(p.island);
   const std::vector<const Piece*> pieces = sequence(p, true);
   system.factor(*pieces.front());  // the symbolic analysis, once per island, untimed
   double ms = 0;
@@ -129,7 +129,7 @@ void BM_Substructured(benchmark::State& state, Scene scene, PartitionerKind part
   std::vector<int> part_of_body, distinct;
   island_parts(p.island, p.step.graph, partition, part_of_body, distinct);
   SubstructuredSystem system;
-  system.assign(p.island, part_of_body, SolverParams{}.dense_max_bodies);
+  system.assign(p.island, part_of_body);
   const std::vector<const Piece*> pieces = sequence(p, all_parts);
   system.factor(p.nudged.back());  // the symbolic analyses, untimed, and a state unlike the first
   SubstructuredCost sum;

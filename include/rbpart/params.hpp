@@ -35,7 +35,6 @@ struct StepParams {
 struct SolverParams {
   SolverKind kind = SolverKind::Direct;  // the step's contact solver
   int max_factorizations = 40;  // Newton budget per island and step (docs/design.md#contact-problem)
-  int dense_max_bodies = 8;     // islands and parts of at most this many bodies factor dense, larger sparse
   int pgs_iterations = 100;     // PGS sweeps per step
   double pgs_tolerance = 1e-8;  // PGS stops when the largest impulse change (scaled) falls below this
   int threads = 0;              // worker threads; 0: all hardware threads

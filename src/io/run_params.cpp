@@ -33,7 +33,6 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"projection_turn", real(step.projection_turn)},
       {"solver", solver_name(solver.kind)},
       {"max_factorizations", integer(solver.max_factorizations)},
-      {"dense_max_bodies", integer(solver.dense_max_bodies)},
       {"pgs_iterations", integer(solver.pgs_iterations)},
       {"pgs_tolerance", real(solver.pgs_tolerance)},
       {"threads", integer(solver.threads)},

@@ -6,8 +6,7 @@
 namespace rbpart {
 
 void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodies, const std::vector<int>& rows,
-                             const std::vector<Mat6>& mass, int dense_max_bodies,
-                             const std::vector<std::vector<int>>& cliques) {
+                             const std::vector<Mat6>& mass, const std::vector<std::vector<int>>& cliques) {
   s_ = &s;
   bodies_ = bodies;
   rows_ = rows;
@@ -19,8 +18,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodi
   for (int b = 0; b < nb; ++b) mass_[b] = mass[bodies_[b]];
   // N's pattern follows from the bodies and each row's bodies: unchanged (a resting island assigned
   // again), it is not rebuilt.
-  bool same_pattern = !n_.dense() && nb > dense_max_bodies && 6 * nb == n_.size() &&
-                      nr == static_cast<int>(body_.size()) && cliques == cliques_;
+  bool same_pattern = 6 * nb == n_.size() && nr == static_cast<int>(body_.size()) && cliques == cliques_;
   body_.resize(nr);
   normal_.resize(nr);
   for (int k = 0; k < nr; ++k) {
@@ -46,7 +44,7 @@ void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodi
   assembled_ = factored_ = false;
   if (same_pattern) return;  // the blocks' slots hold as well
   cliques_ = cliques;
-  assign_pattern(cliques, dense_max_bodies);
+  assign_pattern(cliques);
   diagonal_.resize(nb);
   for (int b = 0; b < nb; ++b) diagonal_[b] = n_.slot(b, b);
   run_start_.clear();
@@ -57,13 +55,13 @@ void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodi
     std::array<PatternFactor::Slot, 4>& own = own_.emplace_back();
     for (int p = 0; p < 2; ++p)
       for (int q = 0; q < 2; ++q)
-        own[2 * p + q] = body_[k][p] < 0 || body_[k][q] < 0 ? PatternFactor::Slot{-1, 0}
+        own[2 * p + q] = body_[k][p] < 0 || body_[k][q] < 0 ? -1
                                                             : n_.slot(body_[k][p], body_[k][q]);
   }
   run_start_.push_back(nr);
 }
 
-void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies) {
+void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques) {
   const int nb = bodies();
   std::vector<std::array<int, 2>>& pairs = pairs_;
   pairs.clear();
@@ -78,33 +76,35 @@ void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& clique
       for (const int b : clique) pairs.push_back({a, b});
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  n_.assign_blocks(nb, pairs, dense_max_bodies);
+  n_.assign_blocks(nb, pairs);
 }
 
 int BodySpaceSystem::local_body(int b) const {
   return std::lower_bound(by_body_.begin(), by_body_.end(), std::array<int, 2>{b, -1})->at(1);
 }
 
-bool BodySpaceSystem::factor(const Piece& piece) { return factor_assembled(!assemble(piece)); }
+bool BodySpaceSystem::factor(const Piece& piece) {
+  assemble(piece);
+  return factor_assembled();
+}
 
-bool BodySpaceSystem::factor_assembled(bool symmetric) {
-  factored_ = n_.factor(symmetric);
+bool BodySpaceSystem::factor_assembled() {
+  factored_ = n_.factor();
   return factored_;
 }
 
 bool BodySpaceSystem::factor_schur(int interior, Eigen::MatrixXd& schur) {
-  factored_ = n_.factor_schur(6 * interior, schur);
+  factored_ = n_.factor_schur(interior, schur);
   return factored_;
 }
 
-bool BodySpaceSystem::assemble(const Piece& piece) {
+void BodySpaceSystem::assemble(const Piece& piece) {
   const IslandSystem& s = *s_;
   factored_ = false;
   assembled_ = true;
   const int nr = static_cast<int>(rows_.size());
   n_.set_zero();
   for (int b = 0; b < bodies(); ++b) n_.block(diagonal_[b]) = mass_[b];
-  bool tied = false;
   for (int k = 0; k < nr; ++k) {
     const int j = rows_[k];
     equation_[k] = piece.equation[j];
@@ -136,7 +136,6 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
     for (int k = begin; k < end; ++k) {
       const double w = equation_[k] == RowEquation::Free ? inv_s_[k] : 0.0;
       const double c = tie_weight_[k] != 0 ? tie_weight_[k] * inv_s_[normal_[k]] : 0.0;
-      tied = tied || tie_weight_[k] != 0;
       if (w == 0 && c == 0) continue;
       const int j = rows_[k];
       for (int p = 0; p < slots; ++p) {
@@ -153,7 +152,6 @@ bool BodySpaceSystem::assemble(const Piece& piece) {
         n_.block(own_[i][2 * p + q]) += sum;
       }
   }
-  return tied;
 }
 
 bool BodySpaceSystem::assembled_for(const Piece& piece) const {

@@ -10,8 +10,8 @@
 // (plus whatever impulses of other rows act on the bodies: the substructured backend's interface).
 // N has 6 x 6 blocks on the body graph: 6 unknowns per body against ~20 rows per body on a pile.
 // A tie adds a non-symmetric 12 x 12 term on its contact's two bodies, whose blocks N already has,
-// so the pattern depends on the rows alone and is analysed once. Dense (Eigen) for at most
-// dense_max_bodies bodies, else sparse (pattern_factor.hpp).
+// so the pattern depends on the rows alone and is analysed once; N is factored by the block sparse LU
+// of pattern_factor.hpp.
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
 #include "solve/pattern_factor.hpp"
@@ -32,23 +32,23 @@ class BodySpaceSystem {
   // substructured backend's interface).
   // Assigned again, it reuses its buffers' capacity, and N's pattern when that is unchanged.
   void assign(const IslandSystem& s, const std::vector<int>& bodies, const std::vector<int>& rows,
-              const std::vector<Mat6>& mass, int dense_max_bodies, const std::vector<std::vector<int>>& cliques = {});
+              const std::vector<Mat6>& mass, const std::vector<std::vector<int>>& cliques = {});
 
   int bodies() const { return static_cast<int>(bodies_.size()); }
   // Position of island body b among the bodies (b must be one of them).
   int local_body(int b) const;
 
   // Factors N of `piece` on the rows (whose equations, ties and shifts it keeps); false if
-  // numerically singular. The same as assemble() then factor_assembled(!tied).
+  // numerically singular. The same as assemble() then factor_assembled().
   bool factor(const Piece& piece);
-  // N of `piece` assembled, not factored; whether a row ties (N is then not symmetric).
-  bool assemble(const Piece& piece);
+  // N of `piece` assembled, not factored.
+  void assemble(const Piece& piece);
   // N's block of (local body r, local body c), both adjacent in its pattern: to add to after assemble().
   PatternFactor::Block block(int r, int c) { return n_.block(r, c); }
   // The same through its slot, which holds until the next assign().
   PatternFactor::Slot slot(int r, int c) const { return n_.slot(r, c); }
   PatternFactor::Block block(PatternFactor::Slot at) { return n_.block(at); }
-  bool factor_assembled(bool symmetric);
+  bool factor_assembled();
   // The substructured backend's part (pattern_factor.hpp, factor_schur): N factored by LU with its
   // first `interior` bodies eliminated first, `schur` <- the Schur complement of the others; then
   // h (6 entries per body) <- [y_I; h_K - N_KI N_II^-1 h_I], and <- [N_II^-1 (h_I - N_IK u_K); u_K].
@@ -69,7 +69,7 @@ class BodySpaceSystem {
  private:
   static constexpr int kMaxRun = 16;  // rows in one run (see run_start_), at most
   // N's pattern from the rows' bodies and `cliques`.
-  void assign_pattern(const std::vector<std::vector<int>>& cliques, int dense_max_bodies);
+  void assign_pattern(const std::vector<std::vector<int>>& cliques);
   // J_j u for local row k.
   double velocity(int k, const Eigen::VectorXd& u) const;
 
@@ -84,7 +84,7 @@ class BodySpaceSystem {
   // Where N's blocks lie, looked up once per pattern: each body's diagonal block; per run of
   // consecutive rows on the same bodies (a contact's three rows, a manifold's contacts), starting
   // at local row run_start_[i], the blocks (slot p, slot q) of their J_p^T J_q (index 2p + q;
-  // start -1: none), which their ties' J_p^T J_n,q share. A run's terms are summed before they
+  // -1: none), which their ties' J_p^T J_n,q share. A run's terms are summed before they
   // are added to N.
   std::vector<PatternFactor::Slot> diagonal_;
   std::vector<int> run_start_;

@@ -4,13 +4,13 @@
 
 namespace rbpart {
 
-void MonolithicSystem::assign(const IslandSystem& s, int dense_max_bodies) {
+void MonolithicSystem::assign(const IslandSystem& s) {
   bodies_.resize(s.bodies);
   rows_.resize(s.rows);
   std::iota(bodies_.begin(), bodies_.end(), 0);
   std::iota(rows_.begin(), rows_.end(), 0);
   body_masses(s, mass_);
-  n_.assign(s, bodies_, rows_, mass_, dense_max_bodies);
+  n_.assign(s, bodies_, rows_, mass_);
   h_.resize(6 * s.bodies);
 }
 

@@ -1,8 +1,7 @@
 #pragma once
 // The monolithic backend of the Newton solver's linear algebra (linear_system.hpp, DESIGN.md §3):
 // the whole island factored in body space (body_space.hpp: N u = h over every body and row,
-// dense for islands of at most dense_max_bodies bodies, by Cholesky when no row is tied, else by LU;
-// larger ones by the block sparse LU of block_lu.hpp).
+// factored by the block sparse LU of block_lu.hpp, tied or not).
 #include "solve/body_space.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
@@ -16,7 +15,7 @@ namespace rbpart {
 class MonolithicSystem final : public LinearSystem {
  public:
   // Keeps a reference to `system`, which must outlive the solves, and builds N's pattern.
-  void assign(const IslandSystem& system, int dense_max_bodies);
+  void assign(const IslandSystem& system);
   bool factor(const Piece& piece) override;
   void solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) override;
 

@@ -16,7 +16,7 @@ SolveStats solve_newton_direct(Rows& rows, const Bodies& bodies, const Islands& 
   for_each_island(islands, kept.island_order, [&](int i) {
     IslandSlot<MonolithicSystem>& slot = *slots[i];
     slot.system.gather(rows, bodies, islands, i, kept.local_row);
-    slot.backend.assign(slot.system, params.dense_max_bodies);
+    slot.backend.assign(slot.system);
     slot.result = solve_island_newton(slot.system, slot.backend, params.max_factorizations, rows, slot.workspace);
   });
 

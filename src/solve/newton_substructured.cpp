@@ -36,7 +36,7 @@ NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& b
     s.gather(rows, bodies, islands, i, kept.local_row);
     SubstructuredSystem& system = slot.backend;
     island_parts(s, graph, partition, slot.part_of_body, slot.distinct);
-    system.assign(s, slot.part_of_body, params.dense_max_bodies);
+    system.assign(s, slot.part_of_body);
     NewtonWorkspace& ws = slot.workspace;
     ws.chunks.set_count(std::min(system.parts(), s.rows / kMinRowsPerChunk));
     slot.result = solve_island_newton(s, system, params.max_factorizations, rows, ws);

@@ -42,7 +42,7 @@ void SubstructuredSystem::finish_call(double wall_ms) {
   total_.parts_refactored += last_.parts_refactored;
 }
 
-void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& part_of_body, int dense_max_bodies) {
+void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& part_of_body) {
   const Timer wall;
   last_ = total_ = SubstructuredCost{};
   const int part_count = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
@@ -105,12 +105,12 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
   body_masses(s, split.mass);
   for_parts([&](Part& p) {
     const int i = static_cast<int>(&p - parts_.data());
-    p.n.assign(s, split.bodies[i], split.rows[i], split.mass, dense_max_bodies);
+    p.n.assign(s, split.bodies[i], split.rows[i], split.mass);
   });
   serial([&] {
     // S carries no mass of its own: the parts' blocks hold it.
     split.no_mass.assign(s.bodies, Mat6::Zero());
-    interface_.assign(s, split.interface_bodies, split.interface_rows, split.no_mass, dense_max_bodies, split.cliques);
+    interface_.assign(s, split.interface_bodies, split.interface_rows, split.no_mass, split.cliques);
     for (Part& p : parts_) {
       p.schur_at.clear();
       for (const int c : p.boundary_at)
@@ -145,11 +145,7 @@ bool SubstructuredSystem::factor(const Piece& piece) {
         for (int c = 0; c < k; ++c)
           for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
       }
-      // Ties, and free rows coupled to their normal, anywhere in the island make the N_i or S non-symmetric.
-      const bool symmetric =
-          std::find(piece.equation.begin(), piece.equation.end(), RowEquation::Tied) == piece.equation.end() &&
-          std::all_of(piece.tie.data(), piece.tie.data() + piece.tie.size(), [](double c) { return c == 0; });
-      ok = interface_.factor_assembled(symmetric);
+      ok = interface_.factor_assembled();
     });
   finish_call(wall.ms());
   return ok;

@@ -57,7 +57,7 @@ class SubstructuredSystem final : public LinearSystem {
   // Splits `s` (kept by reference; it must outlive the solves) by `part_of_body` (island body ->
   // part 0..P-1, every part non-empty) and builds the patterns. Throws std::invalid_argument if a
   // friction row and its normal lie in different parts or interfaces.
-  void assign(const IslandSystem& s, const std::vector<int>& part_of_body, int dense_max_bodies);
+  void assign(const IslandSystem& s, const std::vector<int>& part_of_body);
   bool factor(const Piece& piece) override;
   void solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) override;
 

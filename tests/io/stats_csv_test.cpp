@@ -133,7 +133,7 @@ TEST(RunParameters, EveryParameterByNameAndExact) {
   for (const auto& [name, value] : run_parameters(step, solver)) by_name[name] = value;
   for (const char* name : {"erp", "slop", "sigma_floor", "sliding_velocity_eps", "contact_margin",
                            "joint_projection_iterations", "joint_tolerance", "projection_depth", "projection_turn",
-                           "solver", "max_factorizations", "dense_max_bodies", "pgs_iterations", "pgs_tolerance",
+                           "solver", "max_factorizations", "pgs_iterations", "pgs_tolerance",
                            "threads"})
     EXPECT_EQ(by_name.count(name), 1u) << name;
   EXPECT_EQ(std::strtod(by_name["erp"].c_str(), nullptr), 1.0 / 3.0);

@@ -64,7 +64,7 @@ TEST(SolveNewton, SettlesRandomColumnsFromAColdStartWithinTheBudget) {
       for (int i = 0; i < static_cast<int>(scene.islands.count()); ++i, ++islands) {
         const IslandSystem s = gather_island(scene, i);
         MonolithicSystem system;
-        system.assign(s, trial % 2 == 0 ? 0 : 100);  // sparse and dense
+        system.assign(s);
         Eigen::VectorXd lambda = Eigen::VectorXd::Zero(s.rows);
         std::vector<RowState> state(s.rows, RowState::Free);
         NewtonWorkspace ws;
@@ -88,7 +88,7 @@ TEST(InteriorPoint, ConvergesOnFrictionlessColumns) {
     for (int i = 0; i < static_cast<int>(scene.islands.count()); ++i) {
       const IslandSystem s = gather_island(scene, i);
       MonolithicSystem system;
-      system.assign(s, 0);
+      system.assign(s);
       InteriorPoint ipm;
       ipm.start(s);
       IslandChunks chunks;
@@ -113,29 +113,27 @@ TEST(MonolithicSystem, SolvesFreeRowsCoupledToTheirNormalLikeADenseSolve) {
   Eigen::MatrixXd a;
   build_dense(s, a);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (int dense_max_bodies : {0, 100}) {
-    Piece piece;
-    piece.equation.assign(s.rows, RowEquation::Free);
-    piece.tie.setZero(s.rows);
-    piece.shift.setZero(s.rows);
-    Eigen::MatrixXd e = a;
-    for (int j = 0; j < s.rows; ++j) {
-      piece.shift[j] = unit(rng) * s.diag[j];
-      e(j, j) += piece.shift[j];
-      if (s.normal_of[j] >= 0) {
-        piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
-        e(j, s.normal_of[j]) -= piece.tie[j];
-      }
+  Piece piece;
+  piece.equation.assign(s.rows, RowEquation::Free);
+  piece.tie.setZero(s.rows);
+  piece.shift.setZero(s.rows);
+  Eigen::MatrixXd e = a;
+  for (int j = 0; j < s.rows; ++j) {
+    piece.shift[j] = unit(rng) * s.diag[j];
+    e(j, j) += piece.shift[j];
+    if (s.normal_of[j] >= 0) {
+      piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
+      e(j, s.normal_of[j]) -= piece.tie[j];
     }
-    MonolithicSystem system;
-    system.assign(s, dense_max_bodies);
-    ASSERT_TRUE(system.factor(piece));
-    const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
-    Eigen::VectorXd x;
-    system.solve(g, x);
-    const Eigen::VectorXd reference = e.partialPivLu().solve(g);
-    EXPECT_LE((x - reference).norm(), 1e-8 * reference.norm()) << "dense_max_bodies " << dense_max_bodies;
   }
+  MonolithicSystem system;
+  system.assign(s);
+  ASSERT_TRUE(system.factor(piece));
+  const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
+  Eigen::VectorXd x;
+  system.solve(g, x);
+  const Eigen::VectorXd reference = e.partialPivLu().solve(g);
+  EXPECT_LE((x - reference).norm(), 1e-8 * reference.norm());
 }
 
 // The substructured backend solves the same pieces as the monolithic one, coupled free rows on
@@ -156,7 +154,7 @@ TEST(SubstructuredSystem, SolvesFreeRowsCoupledToTheirNormalLikeTheMonolithicBac
       if (s.normal_of[j] >= 0) piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
     }
     MonolithicSystem monolithic;
-    monolithic.assign(s, 0);
+    monolithic.assign(s);
     ASSERT_TRUE(monolithic.factor(piece));
     const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
     Eigen::VectorXd reference;
@@ -165,7 +163,7 @@ TEST(SubstructuredSystem, SolvesFreeRowsCoupledToTheirNormalLikeTheMonolithicBac
       std::vector<int> part_of_body(s.bodies);
       for (int b = 0; b < s.bodies; ++b) part_of_body[b] = b / per_part;
       SubstructuredSystem substructured;
-      substructured.assign(s, part_of_body, 0);
+      substructured.assign(s, part_of_body);
       ASSERT_TRUE(substructured.factor(piece));
       Eigen::VectorXd x;
       substructured.solve(g, x);

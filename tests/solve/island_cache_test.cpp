@@ -59,7 +59,7 @@ TEST(IslandCache, ABackendAssignedAgainSolvesLikeADenseSolve) {
     const std::vector<int> local = local_row_index(scene.rows, scene.islands);
     IslandSystem s;
     s.gather(scene.rows, scene.bodies, scene.islands, 0, local);
-    system.assign(s, 0);  // sparse: the block LU
+    system.assign(s);
     for (bool ties : {false, true, true}) {
       const Piece piece = random_piece(s, rng, ties);
       ASSERT_TRUE(system.factor(piece));

@@ -9,6 +9,7 @@
 #include "solve/random_blcp.hpp"
 #include "solve/residual.hpp"
 #include "solve/solve.hpp"
+#include "solve/substructured_system.hpp"
 #include "solve/box_scenes.hpp"
 #include "solve/random_piece.hpp"
 
@@ -17,6 +18,7 @@
 #include <Eigen/LU>
 
 #include <limits>
+#include <numeric>
 #include <random>
 #include <string>
 
@@ -36,19 +38,17 @@ Scene stack(bool sliding) {
   return s;
 }
 
-// The dense (Cholesky / LU) and sparse (block LU) body-space backends solve E x = g as a
-// dense LU of E does, to the digits the small regularisation leaves (A's condition ~ 1e6 here).
+// The body-space backend solves E x = g as a dense LU of E does, to the digits the small regularisation leaves (A's condition ~ 1e6 here).
 TEST(MonolithicSystem, SolvesEveryKindOfPieceLikeADenseSolve) {
   Scene scene = stack(true);
   const std::vector<int> local = local_row_index(scene.rows, scene.islands);
   IslandSystem s;
   s.gather(scene.rows, scene.bodies, scene.islands, 0, local);
   std::mt19937 rng(7);
-  for (int dense_max_bodies : {0, 100})
-    for (bool ties : {false, true})
+  for (bool ties : {false, true})
       for (int trial = 0; trial < 5; ++trial) {
         MonolithicSystem system;
-        system.assign(s, dense_max_bodies);
+        system.assign(s);
         const Piece piece = random_piece(s, rng, ties);
         ASSERT_TRUE(system.factor(piece));
         const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
@@ -57,7 +57,7 @@ TEST(MonolithicSystem, SolvesEveryKindOfPieceLikeADenseSolve) {
         const Eigen::MatrixXd e = piece_matrix(s, piece);
         const Eigen::VectorXd reference = e.partialPivLu().solve(g);
         EXPECT_LE((x - reference).norm(), 1e-6 * reference.norm())
-            << "dense_max_bodies " << dense_max_bodies << " ties " << ties << " trial " << trial;
+            << "ties " << ties << " trial " << trial;
         // One refinement step against the exact equations recovers the lost digits: what is left
         // is the round-off of the product E x itself.
         Eigen::VectorXd correction;
@@ -168,30 +168,19 @@ TEST(SolveNewton, ResidualShowsALightBodysErrorBesideAHeavyOne) {
   EXPECT_GE(natural_map_residual(s.rows, s.bodies, s.islands), 0.5 * expected);
 }
 
-// Two islands, one resting and one sliding, through the dense (Cholesky / LU) and the sparse
-// (block LU) backends: the same answer to the digits the regularisation leaves, the same
-// states, and the report's residual is the one natural_map_residual measures. Warm started from
-// its own answer, the solve settles with no factorisation.
-TEST(SolveNewton, TwoIslandsDenseAndSparseBackendsAgree) {
+// Two islands, one resting and one sliding: both settle from a cold start, and the report's residual
+// is the one natural_map_residual measures. Warm started from its own answer, the solve settles with
+// no factorisation.
+TEST(SolveNewton, TwoIslandsSettleAndAWarmStartAtTheAnswerTakesNoFactorisation) {
   Scene s;
   add_box(s, 2.0, 0.5, 0.0, 0.5);
   add_box(s, 5.0, 0.3, 1.0, 0.6);
   finish(s);
   ASSERT_EQ(s.islands.count(), 2u);
-  Rows sparse_rows = s.rows;
-  SolverParams params;
-  params.dense_max_bodies = 100;
-  const SolveStats dense = solve_newton_direct(s.rows, s.bodies, s.islands, params);
-  params.dense_max_bodies = 0;
-  const SolveStats sparse = solve_newton_direct(sparse_rows, s.bodies, s.islands, params);
-  EXPECT_EQ(dense.unsettled + sparse.unsettled, 0);
-  EXPECT_LE(dense.residual, kSettledResidual);
-  EXPECT_LE(sparse.residual, kSettledResidual);
-  EXPECT_EQ(natural_map_residual(s.rows, s.bodies, s.islands), dense.residual);
-  for (std::size_t j = 0; j < s.rows.size(); ++j) {
-    EXPECT_NEAR(sparse_rows.lambda[j], s.rows.lambda[j], 1e-9 * std::max(1.0, std::abs(s.rows.lambda[j])));
-    EXPECT_EQ(sparse_rows.state[j], s.rows.state[j]);
-  }
+  const SolveStats cold = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
+  EXPECT_EQ(cold.unsettled, 0);
+  EXPECT_LE(cold.residual, kSettledResidual);
+  EXPECT_EQ(natural_map_residual(s.rows, s.bodies, s.islands), cold.residual);
   const SolveStats again = solve_newton_direct(s.rows, s.bodies, s.islands, SolverParams{});
   EXPECT_LE(again.residual, kSettledResidual);
   EXPECT_EQ(again.factorizations, 0);
@@ -264,13 +253,17 @@ void expect_admissible_with_residual(const IslandSystem& s, const Eigen::VectorX
   }
 }
 
-NewtonResult solve_cold(const IslandSystem& s, int dense_max_bodies, Eigen::VectorXd& lambda) {
-  MonolithicSystem system;
-  system.assign(s, dense_max_bodies);
+NewtonResult solve_cold(const IslandSystem& s, LinearSystem& system, Eigen::VectorXd& lambda) {
   lambda = Eigen::VectorXd::Zero(s.rows);
   std::vector<RowState> state(s.rows, RowState::Free);
   NewtonWorkspace ws;
   return solve_newton(s, system, SolverParams{}.max_factorizations, lambda, state, ws);
+}
+
+NewtonResult solve_cold(const IslandSystem& s, Eigen::VectorXd& lambda) {
+  MonolithicSystem system;
+  system.assign(s);
+  return solve_cold(s, system, lambda);
 }
 
 // The solver's loops over rows and bodies run in chunks (island_chunks.hpp, the substructured
@@ -289,7 +282,7 @@ TEST(SolveNewton, LoopsInChunksGiveTheSerialAnswerBitForBit) {
     std::vector<NewtonResult> results;
     for (int chunks : {1, 2, 7}) {
       MonolithicSystem system;
-      system.assign(s, 0);
+      system.assign(s);
       Eigen::VectorXd lambda = Eigen::VectorXd::Zero(s.rows);
       std::vector<RowState> state(s.rows, RowState::Free);
       NewtonWorkspace ws;
@@ -319,7 +312,7 @@ TEST(SolveNewton, ANonFiniteProblemEndsUnsettledWithAnAnswerPerRow) {
   IslandSystem s = island.system;
   s.q[0] = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd lambda;
-  const NewtonResult r = solve_cold(s, 100, lambda);
+  const NewtonResult r = solve_cold(s, lambda);
   EXPECT_FALSE(r.settled);
   EXPECT_FALSE(r.residual <= kSettledResidual);
   EXPECT_EQ(lambda.size(), s.rows);
@@ -328,8 +321,9 @@ TEST(SolveNewton, ANonFiniteProblemEndsUnsettledWithAnAnswerPerRow) {
 
 // Random contact islands (random_blcp.hpp: contacts between bodies and against static ones, joint
 // and box rows, redundant beyond six rows per body) with fixed friction boxes: a strictly convex box
-// QP, whose answer is unique. From a cold start, on the dense and the sparse backend, the solver
-// settles every one, reports the residual of its answer, and both backends give the same answer.
+// QP, whose answer is unique. From a cold start, on the monolithic backend and on the substructured
+// one with every body its own part (other factorisations: the interface's Schur complement), the
+// solver settles every one, reports the residual of its answer, and both give the same answer.
 TEST(SolveNewton, SolvesRandomIslandsWithFixedBoundsOnBothBackends) {
   std::mt19937 rng(777);
   RandomIsland island;
@@ -343,12 +337,16 @@ TEST(SolveNewton, SolvesRandomIslandsWithFixedBoundsOnBothBackends) {
       random_contact_island(rng, opt, island);
       const IslandSystem& s = island.system;
       const std::string where = "rows " + std::to_string(s.rows) + " k " + std::to_string(k);
-      Eigen::VectorXd dense, sparse;
-      const NewtonResult d = solve_cold(s, 100, dense), c = solve_cold(s, 0, sparse);
+      Eigen::VectorXd whole, split;
+      SubstructuredSystem parts;
+      std::vector<int> own_part(s.bodies);
+      std::iota(own_part.begin(), own_part.end(), 0);
+      parts.assign(s, own_part);
+      const NewtonResult d = solve_cold(s, whole), c = solve_cold(s, parts, split);
       EXPECT_TRUE(d.settled && c.settled) << where << ": " << d.residual << ", " << c.residual;
-      EXPECT_NEAR(dense_residual(s, dense), d.residual, residual_round_off(s, dense)) << where;
-      EXPECT_NEAR(dense_residual(s, sparse), c.residual, residual_round_off(s, sparse)) << where;
-      EXPECT_LE((dense - sparse).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, dense.cwiseAbs().maxCoeff())) << where;
+      EXPECT_NEAR(dense_residual(s, whole), d.residual, residual_round_off(s, whole)) << where;
+      EXPECT_NEAR(dense_residual(s, split), c.residual, residual_round_off(s, split)) << where;
+      EXPECT_LE((whole - split).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, whole.cwiseAbs().maxCoeff())) << where;
     }
   EXPECT_EQ(islands, 200);
 }
@@ -371,7 +369,7 @@ TEST(SolveNewton, SettlesMostRandomIslandsWithCoupledFriction) {
       const IslandSystem& s = island.system;
       const std::string where = "rows " + std::to_string(s.rows) + " k " + std::to_string(k);
       Eigen::VectorXd lambda;
-      const NewtonResult r = solve_cold(s, 0, lambda);
+      const NewtonResult r = solve_cold(s, lambda);
       settled += r.settled;
       expect_admissible_with_residual(s, lambda, r, where);
     }
@@ -399,7 +397,7 @@ TEST(SolveNewton, AnUnsettledAnswerAddsNoKineticEnergy) {
       const IslandSystem& s = island.system;
       const std::string where = "rows " + std::to_string(s.rows) + " budget " + std::to_string(budget);
       MonolithicSystem system;
-      system.assign(s, 0);
+      system.assign(s);
       // A warm start of normals pushing at up to ten times the island's free velocities' scale,
       // friction anywhere in their boxes: points that add energy (an impact's warm start is the
       // impulses of the step before, on other contacts).
@@ -493,7 +491,7 @@ TEST(SolveNewton, AnswerIsOneOfTheEnumeratedSolutionsOnSmallIslands) {
       if (s.rows > 10) continue;  // joint and box rows may round a contact up
       const std::string where = "rows " + std::to_string(s.rows) + " k " + std::to_string(k);
       Eigen::VectorXd lambda;
-      const NewtonResult result = solve_cold(s, 100, lambda);
+      const NewtonResult result = solve_cold(s, lambda);
       ASSERT_TRUE(result.settled) << where << ": " << result.residual;
       const std::vector<Eigen::VectorXd> solutions = enumerate_solutions(s, 1e-9);
       ASSERT_FALSE(solutions.empty()) << where;

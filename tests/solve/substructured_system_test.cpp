@@ -119,25 +119,23 @@ TEST(SubstructuredSystem, SolvesRandomPiecesAsTheMonolithicBackendDoes) {
     contact_island(rng, 60 + 50 * seed, 6 + 4 * seed, island);
     const IslandSystem& s = island.system;
     for (const NamedParts& parts : partitions(s.bodies, rng))
-      for (int dense_max_bodies : {0, 3, 100})
-        for (bool ties : {false, true}) {
-          const std::string label = "seed " + std::to_string(seed) + " " + parts.name + " dense_max_bodies " +
-                                    std::to_string(dense_max_bodies) + (ties ? " ties" : "");
-          MonolithicSystem monolithic;
-          monolithic.assign(s, dense_max_bodies);
-          SubstructuredSystem sub;
-          sub.assign(s, parts.part_of_body, dense_max_bodies);
-          for (int trial = 0; trial < 2; ++trial) {
-            const Piece piece = random_piece(s, rng, ties);
-            ASSERT_TRUE(monolithic.factor(piece)) << label;
-            ASSERT_TRUE(sub.factor(piece)) << label;
-            const Eigen::VectorXd g = uniform_matrix(rng, s.rows, 1);
-            expect_same_solution(piece_matrix(s, piece), g, monolithic, sub, label);
-            ++cases;
-          }
+      for (bool ties : {false, true}) {
+        const std::string label = "seed " + std::to_string(seed) + " " + parts.name + (ties ? " ties" : "");
+        MonolithicSystem monolithic;
+        monolithic.assign(s);
+        SubstructuredSystem sub;
+        sub.assign(s, parts.part_of_body);
+        for (int trial = 0; trial < 2; ++trial) {
+          const Piece piece = random_piece(s, rng, ties);
+          ASSERT_TRUE(monolithic.factor(piece)) << label;
+          ASSERT_TRUE(sub.factor(piece)) << label;
+          const Eigen::VectorXd g = uniform_matrix(rng, s.rows, 1);
+          expect_same_solution(piece_matrix(s, piece), g, monolithic, sub, label);
+          ++cases;
         }
+      }
   }
-  EXPECT_EQ(cases, 6 * 5 * 3 * 2 * 2);
+  EXPECT_EQ(cases, 6 * 5 * 2 * 2);
 }
 
 // One backend assigned island after island, as a cache slot keeps it from step to step: to the same
@@ -156,8 +154,8 @@ TEST(SubstructuredSystem, AssignedAgainSolvesAsTheMonolithicBackendDoes) {
     for (const std::vector<int>* parts : {&fours, &fours, &threes, &threes, &fours}) {
       const std::string label = "seed " + std::to_string(seed) + (parts == &fours ? " slabs of 4" : " random 3");
       MonolithicSystem monolithic;
-      monolithic.assign(s, 0);
-      sub.assign(s, *parts, 0);
+      monolithic.assign(s);
+      sub.assign(s, *parts);
       for (bool ties : {false, true}) {
         const Piece piece = random_piece(s, rng, ties);
         ASSERT_TRUE(monolithic.factor(piece)) << label;
@@ -182,9 +180,9 @@ TEST(SubstructuredSystem, UnrefinedSolveIsTheMonolithicOneToTheRegularisationsDi
   const IslandSystem& s = island.system;
   for (const NamedParts& parts : partitions(s.bodies, rng)) {
     MonolithicSystem monolithic;
-    monolithic.assign(s, 8);
+    monolithic.assign(s);
     SubstructuredSystem sub;
-    sub.assign(s, parts.part_of_body, 8);
+    sub.assign(s, parts.part_of_body);
     const Piece piece = random_piece(s, rng, true);
     ASSERT_TRUE(monolithic.factor(piece));
     ASSERT_TRUE(sub.factor(piece));
@@ -207,9 +205,9 @@ TEST(SubstructuredSystem, KeepsTheFactorOfPartsWhoseRowsDidNotChange) {
   const IslandSystem& s = island.system;
   const std::vector<int> part_of_body = slabs(s.bodies, 4);
   SubstructuredSystem sub;
-  sub.assign(s, part_of_body, 2);
+  sub.assign(s, part_of_body);
   MonolithicSystem monolithic;
-  monolithic.assign(s, 2);
+  monolithic.assign(s);
   ASSERT_EQ(sub.parts(), 4);
   ASSERT_GT(sub.interface_rows(), 0);
   Piece piece = random_piece(s, rng, true);
@@ -316,18 +314,16 @@ void compare_newton(const Scene& scene, Check&& check) {
     IslandSystem s;
     s.gather(scene.rows, scene.bodies, scene.islands, i, local);
     MonolithicSystem monolithic;
-    monolithic.assign(s, 1);
+    monolithic.assign(s);
     const NewtonAnswer reference = solve_cold(s, monolithic);
     ASSERT_TRUE(reference.result.settled) << "island " << i;
-    for (const NamedParts& parts : partitions(s.bodies, rng))
-      for (int dense_max_bodies : {0, 8}) {
-        SubstructuredSystem sub;
-        sub.assign(s, parts.part_of_body, dense_max_bodies);
-        const NewtonAnswer answer = solve_cold(s, sub);
-        EXPECT_TRUE(answer.result.settled);
-        check(s, reference, answer,
-              "island " + std::to_string(i) + " " + parts.name + " dense_max_bodies " + std::to_string(dense_max_bodies));
-      }
+    for (const NamedParts& parts : partitions(s.bodies, rng)) {
+      SubstructuredSystem sub;
+      sub.assign(s, parts.part_of_body);
+      const NewtonAnswer answer = solve_cold(s, sub);
+      EXPECT_TRUE(answer.result.settled);
+      check(s, reference, answer, "island " + std::to_string(i) + " " + parts.name);
+    }
   }
 }
 
@@ -365,8 +361,7 @@ TEST(SolveNewtonSubstructured, SolvesTheStageAsTheMonolithicBackendDoes) {
   partition.part_of.resize(graph.node_count());
   for (int v = 0; v < graph.node_count(); ++v) partition.part_of[v] = (v * 7) % 5;  // parts span islands
   partition.part_count = 5;
-  SolverParams params;
-  params.dense_max_bodies = 1;
+  const SolverParams params;
   const SolveStats direct = solve_newton_direct(reference.rows, reference.bodies, reference.islands, params);
   const NewtonSubstructuredReport report =
       solve_newton_substructured(scene.rows, scene.bodies, scene.islands, graph, partition, params);
@@ -399,7 +394,7 @@ TEST(SubstructuredSystem, OneAndTwoThreadsGiveBitwiseTheSameAnswer) {
   const auto run = [&](int threads, NewtonAnswer& newton) {
     const tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
     SubstructuredSystem sub;
-    sub.assign(s, part_of_body, 3);
+    sub.assign(s, part_of_body);
     EXPECT_TRUE(sub.factor(piece));
     Eigen::VectorXd x;
     sub.solve(g, x);
