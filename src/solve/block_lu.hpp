@@ -5,8 +5,8 @@
 // each diagonal block by a dense LU with partial pivoting within the block, and its fill is found once
 // (a symbolic factorisation along the elimination tree). Every numeric operation is then a product of
 // two 6 x 6 blocks, where a scalar sparse LU (KLU, and CHOLMOD's small supernodes) spends most of its
-// time indexing single entries: on an island of 460 bodies of the Large Rock Pile a factorisation
-// takes 0.30 ms against KLU's 0.80 ms without a pivot search and CHOLMOD's 1.40 ms (bench/results/
+// time indexing single entries: on an island of 559 bodies of the Large Rock Pile a factorisation
+// takes 0.47 ms against KLU's 1.33 ms without a pivot search and CHOLMOD's 2.61 ms (bench/results/
 // intel-xeon-2core/block-lu/).
 //
 // A = L U, L unit block lower triangular with L_ij = A_ij^(j) D_j^-1, U block upper triangular with

@@ -4,7 +4,7 @@
 // its normal: not symmetric) and (b) the symmetric system of every row Free (a sticking resting
 // island's) are factored 20 times by each method; medians in ms. KLU as the solver used it before:
 // AMD with block triangular form, no row scaling, refactorisation with the first LU's pivots.
-// CHOLMOD: supernodal, AMD, as before. Build: see README.md. Usage: factor_probe SCENE K
+// CHOLMOD: supernodal, AMD, as before. UMFPACK (multifrontal LU), its numeric factorisation. Build: see README.md. Usage: factor_probe SCENE K
 #include <algorithm>
 #include <array>
 #include <functional>
@@ -31,6 +31,7 @@
 #include "step/world_internals.hpp"
 #include <cholmod.h>
 #include <klu.h>
+#include <umfpack.h>
 #include <cstdio>
 #include <cstdlib>
 using namespace rbpart;
@@ -87,7 +88,9 @@ void compare(const PatternFactor& f, bool symmetric) {
   int* p = const_cast<int*>(a.colptr.data());
   int* i = const_cast<int*>(a.rowind.data());
   double* x = const_cast<double*>(a.values.data());
+  const Timer tk;
   klu_symbolic* ks = klu_analyze(a.n, p, i, &kc);
+  const double klu_analyse = tk.ms();
   klu_numeric* kn = klu_factor(p, i, x, ks, &kc);
   const double klu_refactor_ms = median_ms([&] { klu_refactor(p, i, x, ks, kn, &kc); });
   const double klu_factor_ms = median_ms([&] {
@@ -97,6 +100,19 @@ void compare(const PatternFactor& f, bool symmetric) {
   const double klu_solve_ms = median_ms([&] { klu_solve(ks, kn, a.n, 1, b.data(), &kc); });
   klu_free_numeric(&kn, &kc);
   klu_free_symbolic(&ks, &kc);
+
+  // UMFPACK: its symbolic analysis once, numeric factorisations (no row scaling, as KLU).
+  double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
+  umfpack_di_defaults(control);
+  control[UMFPACK_SCALE] = UMFPACK_SCALE_NONE;
+  void *symbolic = nullptr, *numeric = nullptr;
+  umfpack_di_symbolic(a.n, a.n, p, i, x, &symbolic, control, info);
+  const double umf_ms = median_ms([&] {
+    umfpack_di_free_numeric(&numeric);
+    umfpack_di_numeric(p, i, x, symbolic, &numeric, control, info);
+  });
+  umfpack_di_free_numeric(&numeric);
+  umfpack_di_free_symbolic(&symbolic);
 
   double chol_ms = -1;
   if (symmetric) {
@@ -122,9 +138,10 @@ void compare(const PatternFactor& f, bool symmetric) {
     cholmod_free_factor(&l, &c);
     cholmod_finish(&c);
   }
-  std::printf("  %-13s n %5d | block LU: analyse %.2f factor %.3f solve %.3f%s | KLU: refactor %.3f factor %.3f solve %.3f",
+  std::printf("  %-13s n %5d | block LU: analyse %.2f factor %.3f solve %.3f%s | KLU: analyse %.2f refactor %.3f factor %.3f "
+              "solve %.3f | UMFPACK: factor %.3f",
               symmetric ? "symmetric" : "not symmetric", a.n, block_analyse, block_ms, block_solve, ok ? "" : " (failed)",
-              klu_refactor_ms, klu_factor_ms, klu_solve_ms);
+              klu_analyse, klu_refactor_ms, klu_factor_ms, klu_solve_ms, umf_ms);
   if (symmetric) std::printf(" | CHOLMOD: factor %.3f", chol_ms);
   std::printf("\n");
 }
@@ -154,7 +171,7 @@ int main(int argc, char** argv) {
     if (s.bodies <= 8) continue;
     std::printf(" island of %d rows on %d bodies\n", s.rows, s.bodies);
     MonolithicSystem system;
-    system.assign(s, 8);
+    system.assign(s);
     InteriorPoint ipm;
     IslandChunks chunks;
     ipm.start(s);
