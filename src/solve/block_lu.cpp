@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <stdexcept>
 
@@ -64,13 +63,14 @@ void BlockLU::analyze(int blocks, const std::vector<int>& start, const std::vect
     }
   }
 
-  // Where each pattern entry lands, and every position's updates.
+  // Where each pattern entry lands, and the updates of every position that is eliminated (a split's
+  // trailing blocks never are).
   source_.resize(adjacent.size());
   for (int c = 0; c < nb; ++c)
     for (int a = start[c]; a < start[c + 1]; ++a) source_[a] = slot(position_of_[adjacent[a]], position_of_[c]);
   update_start_.assign(1, 0);
   update_.clear();
-  for (int j = 0; j < nb; ++j) {
+  for (int j = 0; j < leading; ++j) {
     for (int p = fill_start_[j]; p < fill_start_[j + 1]; ++p)
       for (int q = fill_start_[j]; q < fill_start_[j + 1]; ++q)
         update_.push_back({slot(fill_[p], fill_[q]), lower(p), upper(q)});

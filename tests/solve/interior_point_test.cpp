@@ -104,27 +104,33 @@ TEST(InteriorPoint, ConvergesOnFrictionlessColumns) {
   }
 }
 
+// Every row Free with a random shift, friction rows coupled to their normal by a random tie: the
+// rows of an interior-point step.
+Piece coupled_free_piece(const IslandSystem& s, std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Piece piece;
+  piece.equation.assign(s.rows, RowEquation::Free);
+  piece.tie.setZero(s.rows);
+  piece.shift.setZero(s.rows);
+  for (int j = 0; j < s.rows; ++j) {
+    piece.shift[j] = unit(rng) * s.diag[j];
+    if (s.normal_of[j] >= 0) piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
+  }
+  return piece;
+}
+
 // A free row coupled to its normal, (A x)_j + shift_j x_j - tie_j x_n = g_j (the interior-point
 // steps' rows), is solved by the body-space backend as a dense LU of the same equations does.
 TEST(MonolithicSystem, SolvesFreeRowsCoupledToTheirNormalLikeADenseSolve) {
   std::mt19937 rng(3);
   const Scene scene = random_columns(rng, 1, 0.5);
   const IslandSystem s = gather_island(scene, 0);
-  Eigen::MatrixXd a;
-  build_dense(s, a);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Piece piece;
-  piece.equation.assign(s.rows, RowEquation::Free);
-  piece.tie.setZero(s.rows);
-  piece.shift.setZero(s.rows);
-  Eigen::MatrixXd e = a;
+  Eigen::MatrixXd e;
+  build_dense(s, e);
+  const Piece piece = coupled_free_piece(s, rng);
   for (int j = 0; j < s.rows; ++j) {
-    piece.shift[j] = unit(rng) * s.diag[j];
     e(j, j) += piece.shift[j];
-    if (s.normal_of[j] >= 0) {
-      piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
-      e(j, s.normal_of[j]) -= piece.tie[j];
-    }
+    if (s.normal_of[j] >= 0) e(j, s.normal_of[j]) -= piece.tie[j];
   }
   MonolithicSystem system;
   system.assign(s);
@@ -144,15 +150,7 @@ TEST(SubstructuredSystem, SolvesFreeRowsCoupledToTheirNormalLikeTheMonolithicBac
   for (int i = 0; i < static_cast<int>(scene.islands.count()); ++i) {
     const IslandSystem s = gather_island(scene, i);
     if (s.bodies < 2) continue;
-    Piece piece;
-    piece.equation.assign(s.rows, RowEquation::Free);
-    piece.tie.setZero(s.rows);
-    piece.shift.setZero(s.rows);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (int j = 0; j < s.rows; ++j) {
-      piece.shift[j] = unit(rng) * s.diag[j];
-      if (s.normal_of[j] >= 0) piece.tie[j] = (unit(rng) - 0.5) * s.mu[j] * s.diag[j];
-    }
+    const Piece piece = coupled_free_piece(s, rng);
     MonolithicSystem monolithic;
     monolithic.assign(s);
     ASSERT_TRUE(monolithic.factor(piece));
