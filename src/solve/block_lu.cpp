@@ -1,5 +1,7 @@
 #include "solve/block_lu.hpp"
 
+#include "solve/island_chunks.hpp"
+
 #include <Eigen/LU>
 #include <amd.h>
 
@@ -110,7 +112,7 @@ void divide_on_the_right(const Eigen::PartialPivLU<BlockLU::Mat6>& lu, BlockLU::
 
 }  // namespace
 
-bool BlockLU::eliminate(const double* values, int count) {
+bool BlockLU::eliminate(const double* values, int count, IslandChunks* chunks) {
   eliminated_ = 0;
   for (Mat6& b : block_) b.setZero();
   for (std::size_t a = 0; a < source_.size(); ++a) block_[source_[a]] = Eigen::Map<const Mat6>(values + 36 * a);
@@ -120,25 +122,31 @@ bool BlockLU::eliminate(const double* values, int count) {
     const double pivot = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(std::isfinite(pivot) && pivot > 0)) return false;
     for (int e = fill_start_[j]; e < fill_start_[j + 1]; ++e) divide_on_the_right(lu, block_[lower(e)]);
-    for (int u = update_start_[j]; u < update_start_[j + 1]; ++u) {
-      const std::array<int, 3>& t = update_[u];
+    const int first = update_start_[j], updates = update_start_[j + 1] - first;
+    const auto update = [&](int u) {
+      const std::array<int, 3>& t = update_[first + u];
       block_[t[0]].noalias() -= block_[t[1]] * block_[t[2]];
+    };
+    if (chunks && updates >= kChunkedUpdates) {
+      chunks->each(updates, update);
+    } else {
+      for (int u = 0; u < updates; ++u) update(u);
     }
   }
   eliminated_ = count;
   return true;
 }
 
-bool BlockLU::factor(const double* values) {
+bool BlockLU::factor(const double* values, IslandChunks* chunks) {
   if (interior_ >= 0) throw std::logic_error("BlockLU::factor on a split analysis");
-  return eliminate(values, blocks_);
+  return eliminate(values, blocks_, chunks);
 }
 
 bool BlockLU::factor_schur(const double* values, Eigen::MatrixXd& schur) {
   if (interior_ < 0) throw std::logic_error("BlockLU::factor_schur without an interior");
   const int k = blocks_ - interior_;
   schur.resize(6 * k, 6 * k);
-  if (!eliminate(values, interior_)) return false;
+  if (!eliminate(values, interior_, nullptr)) return false;
   for (int c = 0; c < k; ++c)
     for (int r = 0; r < k; ++r) schur.block<6, 6>(6 * r, 6 * c) = block_[slot(interior_ + r, interior_ + c)];
   return schur.allFinite();

@@ -16,6 +16,11 @@
 // diagonal blocks (M plus every row's J^T J / sigma on its body), which is what makes that safe, and
 // the Newton solver refines every solution against the exact equations (newton.cpp).
 //
+// Eliminating block j updates every pair of blocks below it in its column and row, each update
+// writing its own block, so they can run in parallel: given IslandChunks, a column with at least
+// kChunkedUpdates updates runs them in its chunks (the substructured backend's interface system,
+// whose trailing blocks are nearly dense). The result is the same bit for bit.
+//
 // With an `interior`, the first `interior` blocks are eliminated first (in AMD order among themselves)
 // and the others after them in their own order, every two of them adjacent; factor_schur() stops
 // after the interior, and the trailing blocks then hold their Schur complement.
@@ -28,9 +33,13 @@
 
 namespace rbpart {
 
+class IslandChunks;
+
 class BlockLU {
  public:
   using Mat6 = Eigen::Matrix<double, 6, 6>;
+  // Updates of one column below which chunking costs more (two clock reads a chunk) than it splits.
+  static constexpr int kChunkedUpdates = 256;
 
   // `blocks` block rows and columns; block column c holds the block rows adjacent[start[c]] ..
   // adjacent[start[c + 1] - 1] (increasing, both triangles, the diagonal among them). interior < 0:
@@ -40,8 +49,9 @@ class BlockLU {
   int interior() const { return interior_; }
 
   // Factors the values (pattern entry k's block at values + 36 k, column-major, in analyze()'s order
-  // of the entries); false if a diagonal block is numerically singular. Needs interior() < 0.
-  bool factor(const double* values);
+  // of the entries); false if a diagonal block is numerically singular. Needs interior() < 0. With
+  // `chunks`, large columns' updates run in them.
+  bool factor(const double* values, IslandChunks* chunks = nullptr);
   // Eliminates the interior only; schur (6 x 6 blocks on the trailing blocks, in their order) <- A_KK -
   // A_KI A_II^-1 A_IK. False if a diagonal block of the elimination is numerically singular. Needs
   // interior() >= 0.
@@ -57,7 +67,7 @@ class BlockLU {
  private:
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   // Copies the values into the factor's blocks (fill zero) and eliminates the first `count` blocks.
-  bool eliminate(const double* values, int count);
+  bool eliminate(const double* values, int count, IslandChunks* chunks);
   // Storage slots: position j's diagonal block is j; pattern entry e (row i > j of column j) has its
   // L block (i, j) at nb + 2e and its U block (j, i) at nb + 2e + 1.
   int lower(int e) const { return blocks_ + 2 * e; }

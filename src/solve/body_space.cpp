@@ -88,8 +88,8 @@ bool BodySpaceSystem::factor(const Piece& piece) {
   return factor_assembled();
 }
 
-bool BodySpaceSystem::factor_assembled() {
-  factored_ = n_.factor();
+bool BodySpaceSystem::factor_assembled(IslandChunks* chunks) {
+  factored_ = n_.factor(chunks);
   return factored_;
 }
 

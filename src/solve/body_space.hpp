@@ -48,7 +48,7 @@ class BodySpaceSystem {
   // The same through its slot, which holds until the next assign().
   PatternFactor::Slot slot(int r, int c) const { return n_.slot(r, c); }
   PatternFactor::Block block(PatternFactor::Slot at) { return n_.block(at); }
-  bool factor_assembled();
+  bool factor_assembled(IslandChunks* chunks = nullptr);
   // The substructured backend's part (pattern_factor.hpp, factor_schur): N factored by LU with its
   // first `interior` bodies eliminated first, `schur` <- the Schur complement of the others; then
   // h (6 entries per body) <- [y_I; h_K - N_KI N_II^-1 h_I], and <- [N_II^-1 (h_I - N_IK u_K); u_K].

@@ -70,10 +70,12 @@ void InteriorPoint::start(const IslandSystem& s) {
   has_.closed.resize(n);
   has_.lo.resize(n);
   has_.hi.resize(n);
+  bounds_ = 0;
   for (int j = 0; j < n; ++j) {
     has_.closed[j] = closed(s, j);
     has_.lo[j] = !has_.closed[j] && (s.normal_of[j] >= 0 || std::isfinite(s.lo[j]));
     has_.hi[j] = !has_.closed[j] && (s.normal_of[j] >= 0 || std::isfinite(s.hi[j]));
+    bounds_ += has_.lo[j] + has_.hi[j];
   }
   const double scale = std::max(max_abs(s.q), 1e-12);
   lambda_.setZero(n);
@@ -115,26 +117,15 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   const int n = s.rows;
   slacks(s, lambda_, slo_, shi_, chunks);
   apply_a(s, lambda_, du_, w_, chunks);
-  w_ += s.q;
-  double gap = 0;
-  int bounds = 0;
-  for (int j = 0; j < n; ++j) {
-    double dlo = 0, dhi = 0;
-    if (has_.lo[j]) {
-      gap += zlo_[j] * slo_[j];
-      dlo = zlo_[j] / slo_[j];
-      ++bounds;
-    }
-    if (has_.hi[j]) {
-      gap += zhi_[j] * shi_[j];
-      dhi = zhi_[j] / shi_[j];
-      ++bounds;
-    }
+  if (bounds_ == 0) return 0;
+  // The mean complementarity gap; each row's shift and tie on the way.
+  const double gap = chunks.sum(n, [&](int j) {
+    w_[j] += s.q[j];
+    const double dlo = has_.lo[j] ? zlo_[j] / slo_[j] : 0.0, dhi = has_.hi[j] ? zhi_[j] / shi_[j] : 0.0;
     piece_.shift[j] = dlo + dhi;
     if (s.normal_of[j] >= 0 && !has_.closed[j]) piece_.tie[j] = s.mu[j] * (dhi - dlo);
-  }
-  if (bounds == 0) return 0;
-  gap /= bounds;
+    return (has_.lo[j] ? zlo_[j] * slo_[j] : 0.0) + (has_.hi[j] ? zhi_[j] * shi_[j] : 0.0);
+  }) / bounds_;
   if (gap0_ == 0) gap0_ = gap;
   // Complementarity met to round-off: further steps would only divide by vanishing slacks.
   if (!(gap > 1e-15 * gap0_)) return 0;
@@ -156,12 +147,10 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
     dzhi_[j] = has_.hi[j] ? -zhi_[j] - zhi_[j] * dshi_[j] / shi_[j] : 0.0;
   });
   const double affine = step_to_boundary(has_, slo_, dslo_, shi_, dshi_, zlo_, dzlo_, zhi_, dzhi_, chunks);
-  double gap_affine = 0;
-  for (int j = 0; j < n; ++j) {
-    if (has_.lo[j]) gap_affine += (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]);
-    if (has_.hi[j]) gap_affine += (zhi_[j] + affine * dzhi_[j]) * (shi_[j] + affine * dshi_[j]);
-  }
-  gap_affine /= bounds;
+  const double gap_affine = chunks.sum(n, [&](int j) {
+    return (has_.lo[j] ? (zlo_[j] + affine * dzlo_[j]) * (slo_[j] + affine * dslo_[j]) : 0.0) +
+           (has_.hi[j] ? (zhi_[j] + affine * dzhi_[j]) * (shi_[j] + affine * dshi_[j]) : 0.0);
+  }) / bounds_;
   const double tau = std::clamp(std::pow(gap_affine / gap, 3), 0.0, 1.0) * gap;
   // Corrector: centring and the predictor's second-order term. dz_* holds the complementarity
   // target until the step is known.
@@ -187,11 +176,18 @@ double InteriorPoint::step(LinearSystem& system, IslandChunks& chunks) {
   // the boundary.
   const double alpha =
       std::min(1.0, kToBoundary * step_to_boundary(has_, slo_, dslo_, shi_, dshi_, zlo_, dzlo_, zhi_, dzhi_, chunks));
-  trial_ = lambda_ + alpha * d_;
-  if (!trial_.allFinite() || !(alpha > 0)) return 0;
-  lambda_ = trial_;
-  zlo_ += alpha * dzlo_;
-  zhi_ += alpha * dzhi_;
+  if (!(alpha > 0)) return 0;
+  trial_.resize(n);
+  const double finite = chunks.min(n, [&](int j) {
+    trial_[j] = lambda_[j] + alpha * d_[j];
+    return std::isfinite(trial_[j]) ? 1.0 : 0.0;
+  });
+  if (!(finite > 0)) return 0;
+  lambda_.swap(trial_);
+  chunks.each(n, [&](int j) {
+    zlo_[j] += alpha * dzlo_[j];
+    zhi_[j] += alpha * dzhi_[j];
+  });
   return alpha;
 }
 

@@ -53,6 +53,7 @@ class InteriorPoint {
   const IslandSystem* s_ = nullptr;
   double gap0_ = 0;
   Sides has_;
+  int bounds_ = 0;  // the slacks: the rows' lower and upper bounds
   Piece piece_;
   std::vector<RowState> indicated_;
   Eigen::VectorXd lambda_, zlo_, zhi_, slo_, shi_, r_, d_, w_, du_, dzlo_, dzhi_, dslo_, dshi_, trial_;

@@ -3,8 +3,9 @@
 // refinement's residuals, the interior point's updates) in chunks of rows or of bodies, each chunk
 // timed, in parallel on large islands: the substructured solver's critical path (DESIGN.md §7)
 // then counts a loop's slowest chunk, not the whole loop. One chunk (the default) runs every loop
-// serially and untimed. A loop body writes only its own row's or body's entries, and the only
-// reduction is a min, so results do not depend on the chunks or the threads.
+// serially and untimed. A loop body writes only its own row's or body's entries; the reductions
+// are a min and a sum over fixed blocks of rows added in block order, so results do not depend on
+// the chunks or the threads.
 #include "core/parallel.hpp"
 #include "core/timer.hpp"
 
@@ -13,6 +14,11 @@
 #include <vector>
 
 namespace rbpart {
+
+// Work whose items are independent (rows, bodies, a factorisation's updates) is split in this
+// many chunks for the substructured solver's critical path: the most cores the study estimates a
+// solve's time for (study/report.hpp).
+constexpr int kMaxChunks = 16;
 
 class IslandChunks {
  public:
@@ -47,14 +53,35 @@ class IslandChunks {
     });
     return count_ == 1 ? serial : *std::min_element(low_.begin(), low_.end());
   }
+  // The sum of fn(k) over k in [0, n), added in blocks of kSumBlock items, then block by block, so
+  // that the round-off is the same in any number of chunks.
+  template <class Fn>
+  double sum(int n, Fn&& fn) {
+    const int blocks = (n + kSumBlock - 1) / kSumBlock;
+    partial_.resize(blocks);
+    run(blocks, [&](int, int begin, int end) {
+      for (int b = begin; b < end; ++b) {
+        double total = 0;
+        for (int k = b * kSumBlock, last = std::min(n, k + kSumBlock); k < last; ++k) total += fn(k);
+        partial_[b] = total;
+      }
+    }, n);
+    double total = 0;
+    for (const double v : partial_) total += v;
+    return total;
+  }
 
   // Of the loops run in more than one chunk so far: the chunks' times summed, each loop's slowest
   // chunk summed, and the loops' wall time.
   double work_ms = 0, critical_path_ms = 0, wall_ms = 0;
 
  private:
+  static constexpr int kSumBlock = 256;
+
+  // chunk(c, begin, end) over [0, n) in count_ ranges; `items` (default n) is the work's size in
+  // rows or bodies, which decides whether the chunks run in parallel.
   template <class Chunk>
-  void run(int n, Chunk&& chunk) {
+  void run(int n, Chunk&& chunk, int items = -1) {
     if (count_ == 1) {
       chunk(0, 0, n);
       return;
@@ -67,7 +94,7 @@ class IslandChunks {
             static_cast<int>(total * static_cast<long long>(c + 1) / count_));
       ms_[c] = timer.ms();
     };
-    if (n >= kMinParallelItems) {
+    if ((items < 0 ? n : items) >= kMinParallelItems) {
       parallel_for_each(static_cast<std::size_t>(count_), timed);
     } else {
       for (int c = 0; c < count_; ++c) timed(static_cast<std::size_t>(c));
@@ -82,7 +109,7 @@ class IslandChunks {
   }
 
   int count_ = 1;
-  std::vector<double> ms_, low_;
+  std::vector<double> ms_, low_, partial_;
 };
 
 }  // namespace rbpart

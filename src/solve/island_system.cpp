@@ -7,6 +7,12 @@ namespace rbpart {
 
 void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Islands& islands, int island,
                           const std::vector<int>& local_row) {
+  IslandChunks serial;
+  gather(all, bodies_in, islands, island, local_row, serial);
+}
+
+void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Islands& islands, int island,
+                          const std::vector<int>& local_row, IslandChunks& chunks) {
   const int row_begin = islands.row_offset[island], body_begin = islands.body_offset[island];
   rows = islands.row_offset[island + 1] - row_begin;
   bodies = islands.body_offset[island + 1] - body_begin;
@@ -15,10 +21,10 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
 
   inv_mass.resize(bodies);
   inv_inertia.resize(bodies);
-  for (int b = 0; b < bodies; ++b) {
+  chunks.each(bodies, [&](int b) {
     inv_mass[b] = bodies_in.inv_mass[global_bodies[b]];
     inv_inertia[b] = bodies_in.inv_inertia[global_bodies[b]];
-  }
+  });
 
   body.resize(rows);
   jac.resize(rows);
@@ -30,8 +36,7 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
   diag.resize(rows);
   normal_of.resize(rows);
   mu.resize(rows);
-  body_slot_offset.assign(bodies + 1, 0);
-  for (int r = 0; r < rows; ++r) {
+  chunks.each(rows, [&](int r) {
     const int g = global_rows[r];
     for (int slot = 0; slot < 2; ++slot) {
       const int b = all.body[g][slot];
@@ -56,7 +61,6 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
       }
       mjac[r][slot] << inv_mass[b] * jac[r][slot].head<3>(), inv_inertia[b] * jac[r][slot].tail<3>();
       jmj += jac[r][slot].dot(mjac[r][slot]);
-      ++body_slot_offset[b + 1];
     }
     q[r] = all.q[g];
     lo[r] = all.lo[g];
@@ -65,7 +69,12 @@ void IslandSystem::gather(const Rows& all, const Bodies& bodies_in, const Island
     diag[r] = jmj + sigma[r];
     normal_of[r] = all.normal_of[g] >= 0 ? local_row[all.normal_of[g]] : -1;
     mu[r] = all.mu[g];
-  }
+  });
+  // Each body's row slots, in row order.
+  body_slot_offset.assign(bodies + 1, 0);
+  for (int r = 0; r < rows; ++r)
+    for (int slot = 0; slot < 2; ++slot)
+      if (body[r][slot] >= 0) ++body_slot_offset[body[r][slot] + 1];
   for (int b = 0; b < bodies; ++b) body_slot_offset[b + 1] += body_slot_offset[b];
   body_slots.resize(body_slot_offset[bodies]);
   slot_fill.assign(body_slot_offset.begin(), body_slot_offset.end() - 1);

@@ -35,7 +35,9 @@ struct IslandSystem {
 
   // Gathers island `island`. `local_row` must map every Rows index of the island to its local
   // index (the caller fills it for all islands at once; islands own disjoint rows). A row whose two
-  // slots name the same body is folded into slot 0.
+  // slots name the same body is folded into slot 0. Bodies and rows are gathered in `chunks`.
+  void gather(const Rows& rows, const Bodies& bodies, const Islands& islands, int island,
+              const std::vector<int>& local_row, IslandChunks& chunks);
   void gather(const Rows& rows, const Bodies& bodies, const Islands& islands, int island,
               const std::vector<int>& local_row);
 

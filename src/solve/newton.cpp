@@ -15,20 +15,28 @@ constexpr int kRefinements = 3;  // refinement solves per Newton step, at most
 // Full Newton steps without a better answer before the interior-point phase takes over.
 constexpr int kPatience = 2;
 
-// max_j |fw_j| / scale, NaN as infinite.
-double residual_of(const Eigen::VectorXd& fw, double scale) {
-  double r = 0;
-  for (Eigen::Index j = 0; j < fw.size(); ++j) {
-    const double v = std::abs(fw[j]);
-    if (!(v <= r)) r = std::isnan(v) ? std::numeric_limits<double>::infinity() : v;
-  }
-  return r / scale;
+// max_j |fw_j| / scale, NaN as infinite (the largest |fw_j| as the least -|fw_j|).
+double residual_of(const Eigen::VectorXd& fw, double scale, IslandChunks& chunks) {
+  const double least = chunks.min(static_cast<int>(fw.size()), [&](int j) {
+    return std::isnan(fw[j]) ? -std::numeric_limits<double>::infinity() : -std::abs(fw[j]);
+  });
+  return std::max(0.0, -least) / scale;
 }
 
 void velocities(const IslandSystem& s, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, Eigen::VectorXd& w,
                 IslandChunks& chunks) {
   apply_a(s, lambda, du, w, chunks);
-  w += s.q;
+  chunks.each(s.rows, [&](int j) { w[j] += s.q[j]; });
+}
+
+bool all_finite(const Eigen::VectorXd& v, IslandChunks& chunks) {
+  return chunks.min(static_cast<int>(v.size()), [&](int j) { return std::isfinite(v[j]) ? 1.0 : 0.0; }) > 0;
+}
+
+// to = from, in chunks.
+void copy(const Eigen::VectorXd& from, Eigen::VectorXd& to, IslandChunks& chunks) {
+  to.resize(from.size());
+  chunks.each(static_cast<int>(from.size()), [&](int j) { to[j] = from[j]; });
 }
 
 // Normals and joint rows onto [lo, hi], then friction onto the box of its projected normal.
@@ -53,8 +61,10 @@ void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda, IslandC
 // (a = lambda^T A lambda, b' = lambda^T q; 0 if b' >= 0), the point of its ray that does no work and
 // E(t lambda) = -b'^2 / 2a <= 0. t lambda is admissible: the boxes hold 0 and friction's scales with
 // its normal. Returns t (1: left as it is). Only for boxes that hold 0 (see `scalable`).
-double energy_scale(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w) {
-  const double work = lambda.dot(w), free_work = lambda.dot(s.q);  // a + b', b'
+double energy_scale(const IslandSystem& s, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w,
+                    IslandChunks& chunks) {
+  const double work = chunks.sum(s.rows, [&](int j) { return lambda[j] * w[j]; });  // a + b'
+  const double free_work = chunks.sum(s.rows, [&](int j) { return lambda[j] * s.q[j]; });  // b'
   if (!(work + free_work > 0)) return 1;                            // 2 E <= 0 (or not finite)
   // -b' / a without cancellation when t is small.
   return free_work < 0 ? -free_work / (work - free_work) : 0.0;
@@ -93,14 +103,15 @@ void set_piece(const IslandSystem& s, const Eigen::VectorXd& lambda, NewtonWorks
   std::vector<RowState>& state = ws.piece_state;
   const int n = s.rows;
   piece.equation.resize(n);
-  piece.tie.setZero(n);
-  piece.shift.setZero(n);
+  piece.tie.resize(n);
+  piece.shift.resize(n);
   ws.g.resize(n);
   const auto set_free = [&](int j) {  // w_j = 0
     piece.equation[j] = RowEquation::Free;
     ws.g[j] = -s.q[j];
   };
   ws.chunks.each(n, [&](int j) {
+    piece.tie[j] = piece.shift[j] = 0;
     if (s.normal_of[j] >= 0) return;
     if (state[j] == RowState::Free) {
       set_free(j);
@@ -183,27 +194,28 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     project_onto_bounds(s, candidate, ws.chunks);
     velocities(s, candidate, ws.du, ws.trial_w, ws.chunks);
     scaled_natural_map(s, candidate, ws.trial_w, ws.trial_fw, ws.chunks);
-    last = residual_of(ws.trial_fw, scale);
+    last = residual_of(ws.trial_fw, scale, ws.chunks);
     if (last < best || !have_best) {
       have_best = true;
       best = last;
-      ws.best = candidate;
+      copy(candidate, ws.best, ws.chunks);
     }
     if (last <= kSettledResidual) return;
     // Scaled back, projected again (t mu lambda_n may round below t lambda_t) and measured anew.
-    const double t = scalable ? energy_scale(s, candidate, ws.trial_w) : 1.0;
+    const double t = scalable ? energy_scale(s, candidate, ws.trial_w, ws.chunks) : 1.0;
     double residual = last;
     if (t != 1) {
-      ws.ex = t * candidate;
+      ws.ex.resize(s.rows);
+      ws.chunks.each(s.rows, [&](int j) { ws.ex[j] = t * candidate[j]; });
       project_onto_bounds(s, ws.ex, ws.chunks);
       velocities(s, ws.ex, ws.du, ws.trial_w, ws.chunks);
       scaled_natural_map(s, ws.ex, ws.trial_w, ws.trial_fw, ws.chunks);
-      residual = residual_of(ws.trial_fw, scale);
+      residual = residual_of(ws.trial_fw, scale, ws.chunks);
     }
     if (residual < answer || !have_answer) {
       have_answer = true;
       answer = residual;
-      ws.answer = t != 1 ? ws.ex : candidate;
+      copy(t != 1 ? ws.ex : candidate, ws.answer, ws.chunks);
     }
   };
   const auto settled = [&] {
@@ -221,13 +233,14 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
     double error = piece_residual(s, ws.piece, ws.g, ws.x, ws.du, ws.ad, ws.e, ws.chunks);
     for (int r = 0; r < kRefinements && error > 1e-15 * scale; ++r) {
       system.solve(ws.e, ws.ex);
-      ws.trial = ws.x + ws.ex;
+      ws.trial.resize(s.rows);
+      ws.chunks.each(s.rows, [&](int j) { ws.trial[j] = ws.x[j] + ws.ex[j]; });
       const double next = piece_residual(s, ws.piece, ws.g, ws.trial, ws.du, ws.ad, ws.e, ws.chunks);
       if (!(next < error)) break;
       error = next;
-      ws.x = ws.trial;
+      ws.x.swap(ws.trial);
     }
-    return ws.x.allFinite();
+    return all_finite(ws.x, ws.chunks);
   };
   // Full Newton steps from ws.base (velocities ws.base_w), the first in the state ws.piece_state,
   // each next one in the state the natural map gives at the last step's solution, unprojected, so
@@ -243,7 +256,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       if (ws.piece_state == ws.last_state) return;
       ws.last_state = ws.piece_state;
       if (!solve_piece()) return;
-      ws.base = ws.x;
+      copy(ws.x, ws.base, ws.chunks);
       velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
       const double before = best;
       consider(ws.x);
@@ -274,7 +287,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       const Timer timer;
       const bool stepped = ws.ipm.step(system, ws.chunks) > 0;
       result.factor_ms += timer.ms();
-      ws.trial = ws.ipm.lambda();
+      copy(ws.ipm.lambda(), ws.trial, ws.chunks);
       consider(ws.trial);
       // An interior-point iterate that settles is exact only to the criterion, and along redundant
       // contacts, held by sigma alone, its impulses may then lie 1e-9 / sigma ~ 1e-3 (relative) from
@@ -283,7 +296,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       // point). (The natural map's state at the iterate missed round-off on 1 of 68 replayed islands.)
       if (best <= kSettledResidual && best == last &&
           result.factorizations < max_factorizations) {
-        ws.base = ws.trial;
+        copy(ws.trial, ws.base, ws.chunks);
         ws.piece_state = ws.ipm.indicated();
         set_piece(s, ws.base, ws);
         if (solve_piece()) consider(ws.x);
@@ -292,7 +305,7 @@ NewtonResult solve_newton(const IslandSystem& s, LinearSystem& system, int max_f
       const std::vector<RowState>& indicated = ws.ipm.indicated();
       if ((indicated == ws.ipm_state && indicated != ws.tried_state) || !stepped) {
         ws.tried_state = indicated;
-        ws.base = ws.trial;
+        copy(ws.trial, ws.base, ws.chunks);
         velocities(s, ws.base, ws.du, ws.base_w, ws.chunks);
         ws.piece_state = indicated;
         newton_steps();

@@ -14,8 +14,9 @@ namespace rbpart {
 
 namespace {
 
-// The Newton iteration's own loops run in one chunk per part (island_chunks.hpp), but never in
-// chunks of fewer rows than this, so that timing a chunk (two clock reads) stays small beside it.
+// The Newton iteration's own loops run in kMaxChunks chunks (island_chunks.hpp: their rows are
+// independent, so the partition does not bound how finely they split), but never in chunks of fewer
+// rows than this, so that timing a chunk (two clock reads) stays small beside it.
 constexpr int kMinRowsPerChunk = 64;
 
 }  // namespace
@@ -33,12 +34,12 @@ NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& b
     const Timer wall;
     IslandSlot<SubstructuredSystem>& slot = *slots[i];
     IslandSystem& s = slot.system;
-    s.gather(rows, bodies, islands, i, kept.local_row);
+    NewtonWorkspace& ws = slot.workspace;
+    ws.chunks.set_count(std::min(kMaxChunks, (islands.row_offset[i + 1] - islands.row_offset[i]) / kMinRowsPerChunk));
+    s.gather(rows, bodies, islands, i, kept.local_row, ws.chunks);
     SubstructuredSystem& system = slot.backend;
     island_parts(s, graph, partition, slot.part_of_body, slot.distinct);
     system.assign(s, slot.part_of_body);
-    NewtonWorkspace& ws = slot.workspace;
-    ws.chunks.set_count(std::min(system.parts(), s.rows / kMinRowsPerChunk));
     slot.result = solve_island_newton(s, system, params.max_factorizations, rows, ws);
     // Outside the backend's calls and the chunked loops the island is serial.
     const SubstructuredCost& cost = system.total();

@@ -20,7 +20,7 @@ class SubstructuredSystem;
 
 struct NewtonSubstructuredReport {
   // As solve_newton_direct fills it, and work_ms: the backends' parallel and serial phases, the
-  // Newton iteration's own loops over rows and bodies (in one chunk per part) and each island's
+  // Newton iteration's own loops over rows and bodies (in up to 16 chunks) and each island's
   // serial rest (gathering, set-up, copies); critical_path_ms: the longest island's, with every
   // parallel phase and loop at its slowest part or chunk.
   SolveStats solve;

@@ -40,9 +40,9 @@ void PatternFactor::analyse(int interior) {
   analysed_ = true;
 }
 
-bool PatternFactor::factor() {
+bool PatternFactor::factor(IslandChunks* chunks) {
   analyse(-1);
-  return lu_.factor(values_.data());
+  return lu_.factor(values_.data(), chunks);
 }
 
 bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "solve/island_chunks.hpp"
 #include "study/replay.hpp"
 
 namespace rbpart {
@@ -28,6 +29,8 @@ struct SceneResult {
 // The core counts of the estimates (docs/study.md, "Reading the numbers on a small machine").
 inline constexpr int kEstimateCores[] = {4, 8, 16};
 inline constexpr std::size_t kEstimates = std::size(kEstimateCores);
+// The solver splits its independent work in as many chunks as the most cores estimated.
+static_assert(kEstimateCores[kEstimates - 1] == kMaxChunks);
 
 // A substructured solve's time on `cores` cores, bounded below by its critical path and by its work
 // shared evenly: max(critical_path_ms, work_ms / cores) (DESIGN.md §7). 0 for the direct baseline,
