@@ -37,7 +37,8 @@ namespace {
 namespace fs = std::filesystem;
 
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  // (memcmp must not see the null data() of an empty vector.)
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
 // A run with no observer is the reference: recording must not perturb the run, and the recorded
