@@ -127,30 +127,29 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
 
 void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.refactored = !(p.ok && p.n.assembled_for(piece));
-  if (!p.refactored) return;
-  p.n.assemble(piece);
-  p.ok = p.n.factor_schur(p.interior, p.schur);
+  if (p.refactored) {
+    p.n.assemble(piece);
+    p.ok = p.n.factor_schur(p.interior, p.schur);
+  }
+  // The part's block of S, where S holds N_T: the K_i are disjoint, so every part adds to blocks
+  // of its own, and each block of S is N_T's plus one part's whatever the order.
+  if (!p.ok || interface_.bodies() == 0) return;
+  const int k = static_cast<int>(p.boundary_at.size());
+  for (int c = 0; c < k; ++c)
+    for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
 }
 
 bool SubstructuredSystem::factor(const Piece& piece) {
   const Timer wall;
   last_ = SubstructuredCost{};
+  if (interface_.bodies() > 0) serial([&] { interface_.assemble(piece); });
   for_parts([&](Part& p) { factor_part(p, piece); });
   bool ok = true;
   for (const Part& p : parts_) {
     ok = ok && p.ok;
     last_.parts_refactored += p.refactored;
   }
-  if (ok && interface_.bodies() > 0)
-    serial([&] {
-      interface_.assemble(piece);
-      for (const Part& p : parts_) {
-        const int k = static_cast<int>(p.boundary_at.size());
-        for (int c = 0; c < k; ++c)
-          for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
-      }
-      ok = interface_.factor_assembled(&interface_chunks_);
-    });
+  if (ok && interface_.bodies() > 0) serial([&] { ok = interface_.factor_assembled(&interface_chunks_); });
   finish_call(wall.ms());
   return ok;
 }

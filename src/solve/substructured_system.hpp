@@ -23,12 +23,13 @@
 // factorisation. S is symmetric positive definite when no row of the island is tied, else not
 // symmetric.
 //
-// factor(): every part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or
-// shifts changed since it last did, factors it by LU with I_i's bodies first and K_i's last: the
-// trailing block of that LU is its block of S (pattern_factor.hpp, factor_schur), and its forward
-// and back substitutions over I_i give h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). S is then
-// assembled (N_T from the interface rows, as body_space.hpp assembles N, plus each part's block in
-// part order, so the result does not depend on the thread count) and factored like N: its pattern,
+// factor(): S is set to N_T (the interface rows, assembled as body_space.hpp assembles N); every
+// part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or shifts changed
+// since it last did, factors it by LU with I_i's bodies first and K_i's last: the trailing block of
+// that LU is its block of S (pattern_factor.hpp, factor_schur), and its forward and back
+// substitutions over I_i give h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). Each part adds
+// its block to S, on blocks no other part touches (the K_i are disjoint), so S does not depend on
+// the thread count. S is factored like N: its pattern,
 // the interface rows' body graph with each K_i a clique, is fixed and analysed once. solve(): every
 // part, in parallel, substitutes forward over I_i, which leaves its terms of r; the interface solves
 // S (serial); every part, in parallel, substitutes back for u_I and recovers its sub-system rows'
@@ -83,7 +84,8 @@ class SubstructuredSystem final : public LinearSystem {
     double ms = 0;                      // the part's time in the current parallel phase
   };
 
-  // Refactors part p if its rows changed: N_i's LU and the part's block of S.
+  // Refactors part p if its rows changed (N_i's LU and the part's block of S) and adds that block
+  // to S.
   void factor_part(Part& p, const Piece& piece);
   // Runs fn(part) for every part in parallel, timing each; the slowest counts to the critical path.
   template <class Fn>
