@@ -122,15 +122,11 @@ bool BlockLU::eliminate(const double* values, int count, IslandChunks* chunks) {
     const double pivot = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(std::isfinite(pivot) && pivot > 0)) return false;
     for (int e = fill_start_[j]; e < fill_start_[j + 1]; ++e) divide_on_the_right(lu, block_[lower(e)]);
-    const int first = update_start_[j], updates = update_start_[j + 1] - first;
-    const auto update = [&](int u) {
-      const std::array<int, 3>& t = update_[first + u];
-      block_[t[0]].noalias() -= block_[t[1]] * block_[t[2]];
-    };
-    if (chunks && updates >= kChunkedUpdates) {
-      chunks->each(updates, update);
+    const int first = update_start_[j], last = update_start_[j + 1];
+    if (chunks && last - first >= kChunkedUpdates) {
+      chunks->each(last - first, [&](int u) { apply_update(update_[first + u]); });
     } else {
-      for (int u = 0; u < updates; ++u) update(u);
+      for (int u = first; u < last; ++u) apply_update(update_[u]);
     }
   }
   eliminated_ = count;

@@ -68,6 +68,11 @@ class BlockLU {
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   // Copies the values into the factor's blocks (fill zero) and eliminates the first `count` blocks.
   bool eliminate(const double* values, int count, IslandChunks* chunks);
+  // target -= L U for an update {target, L block, U block}; inlined into both of eliminate()'s loops
+  // (a call per 6 x 6 product cost a tenth of the factorisation).
+  [[gnu::always_inline]] void apply_update(const std::array<int, 3>& t) {
+    block_[t[0]].noalias() -= block_[t[1]] * block_[t[2]];
+  }
   // Storage slots: position j's diagonal block is j; pattern entry e (row i > j of column j) has its
   // L block (i, j) at nb + 2e and its U block (j, i) at nb + 2e + 1.
   int lower(int e) const { return blocks_ + 2 * e; }
