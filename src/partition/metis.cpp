@@ -5,11 +5,14 @@
 // Choices, measured on pile_graph graphs of 10^3-3·10^4 bodies (docs/partitioning.md):
 // - Recursive bisection rather than k-way: with parts of 8-128 bodies (thousands of parts) k-way was
 //   3-5x slower, cut up to 40 % more and left many parts disconnected.
-// - nparts = ceil(bodies / nmax). METIS balances only to within its tolerance, and a part over nmax
-//   must be split below, leaving a fragment; so if any part exceeds nmax, METIS runs once more
-//   aiming 5 % below the cap, nparts = ceil(bodies / (0.95 nmax)), and that result is used
-//   (10^4 bodies, nmax 32: 358 final parts instead of 430, same cut). Where that many parts would
-//   be one body each, every body is its own part and METIS is not called.
+// - nparts: METIS balances only to within its tolerance, and a part over nmax must be split below,
+//   leaving a fragment. One bisection (bodies <= 2 nmax) is tried at the cap, nparts =
+//   ceil(bodies / nmax), which it meets exactly where the graph allows (two cliques of nmax); if a
+//   part exceeds nmax, and always for more parts, METIS aims 5 % below the cap, nparts =
+//   ceil(bodies / (0.95 nmax)): recursive bisection's imbalance compounds over its levels, and
+//   trying the cap first there gave the same parts on every pile graph of partition_bench in
+//   twice the time. Where that many parts would be one body each, every body is its own part and
+//   METIS is not called.
 //
 // METIS's parts are then made to meet docs/design.md#partition: each is cut into pieces by breadth-first
 // growth restricted to the part's bodies (seeded at its lowest-index unassigned body, at most nmax bodies per
@@ -77,8 +80,9 @@ void partition_island_metis(GrowState& s, const PartitionParams& params, const i
     return *std::max_element(size.begin(), size.end()) <= params.nmax;
   };
   part.resize(count);
-  if (!run_metis((count + params.nmax - 1) / params.nmax))
-    run_metis(static_cast<idx_t>(std::ceil(count / (0.95 * params.nmax))));
+  const idx_t at_cap = (count + params.nmax - 1) / params.nmax;
+  const idx_t below = static_cast<idx_t>(std::ceil(count / (0.95 * params.nmax)));
+  if (at_cap > 2 || below == at_cap || !run_metis(at_cap)) run_metis(below);
   for (int i = 0; i < count; ++i) s.label[nodes[i]] = part[i];
   MetisPieceRule rule(s);
   grow_island(s, rule, nodes, count);
