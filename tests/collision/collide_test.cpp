@@ -755,6 +755,24 @@ double surface_of(const BodyDef& b, const std::vector<Plane>& planes, const Vec3
   }
 }
 
+// The ground and 40 bodies, each shape type in turn (a rock hull of 16 random points among them), run
+// once at the scene's poses; returns each box's and hull's facet planes (empty for the others).
+std::vector<std::vector<Plane>> add_every_shape(Fixture& f, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  f.add(ground());
+  std::vector<Vec3> rock;
+  for (int i = 0; i < 16; ++i) rock.push_back(Vec3(u(rng), u(rng), u(rng)).normalized().cwiseProduct(Vec3(0.15, 0.1, 0.12)));
+  const BodyDef shapes[] = {sphere(0.1), box(Vec3(0.1, 0.05, 0.15)), round_body(ShapeType::Capsule, 0.05, 0.1),
+                            round_body(ShapeType::Cylinder, 0.08, 0.1), hull(rock)};
+  for (int i = 0; i < 40; ++i) f.add(shapes[i % 5]);
+  std::vector<std::vector<Plane>> planes(f.scene.bodies.size());
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    if (f.scene.bodies[i].shape.type == ShapeType::Box || f.scene.bodies[i].shape.type == ShapeType::Convex)
+      planes[i] = facets(corners_of(f.scene.bodies[i]));
+  f.run_scene_poses();
+  return planes;
+}
+
 TEST(Collide, RandomPosesGiveCertifiedContacts) {
   // Every shape type against every other at random poses, some far away, many deep inside each
   // other. Every contact is finite, with a unit normal, within the margin, a dynamic. The deepest
@@ -765,18 +783,8 @@ TEST(Collide, RandomPosesGiveCertifiedContacts) {
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> u(-1, 1);
   Fixture f;
-  f.add(ground());
-  std::vector<Vec3> rock;
-  for (int i = 0; i < 16; ++i) rock.push_back(Vec3(u(rng), u(rng), u(rng)).normalized().cwiseProduct(Vec3(0.15, 0.1, 0.12)));
-  const BodyDef shapes[] = {sphere(0.1), box(Vec3(0.1, 0.05, 0.15)), round_body(ShapeType::Capsule, 0.05, 0.1),
-                            round_body(ShapeType::Cylinder, 0.08, 0.1), hull(rock)};
-  for (int i = 0; i < 40; ++i) f.add(shapes[i % 5]);
+  const std::vector<std::vector<Plane>> planes = add_every_shape(f, rng);
   const int n = static_cast<int>(f.scene.bodies.size());
-  std::vector<std::vector<Plane>> planes(n);
-  for (int i = 0; i < n; ++i)
-    if (f.scene.bodies[i].shape.type == ShapeType::Box || f.scene.bodies[i].shape.type == ShapeType::Convex)
-      planes[i] = facets(corners_of(f.scene.bodies[i]));
-  f.run_scene_poses();
   int certified = 0, separated = 0;
   for (int trial = 0; trial < 60; ++trial) {
     for (int i = 1; i < n; ++i) {
@@ -835,18 +843,8 @@ TEST(Collide, SpeculativeContactsAreExactDistances) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<double> u(-1, 1);
   Fixture f;
-  f.add(ground());
-  std::vector<Vec3> rock;
-  for (int i = 0; i < 16; ++i) rock.push_back(Vec3(u(rng), u(rng), u(rng)).normalized().cwiseProduct(Vec3(0.15, 0.1, 0.12)));
-  const BodyDef shapes[] = {sphere(0.1), box(Vec3(0.1, 0.05, 0.15)), round_body(ShapeType::Capsule, 0.05, 0.1),
-                            round_body(ShapeType::Cylinder, 0.08, 0.1), hull(rock)};
-  for (int i = 0; i < 40; ++i) f.add(shapes[i % 5]);
+  const std::vector<std::vector<Plane>> planes = add_every_shape(f, rng);
   const int n = static_cast<int>(f.scene.bodies.size());
-  std::vector<std::vector<Plane>> planes(n);
-  for (int i = 0; i < n; ++i)
-    if (f.scene.bodies[i].shape.type == ShapeType::Box || f.scene.bodies[i].shape.type == ShapeType::Convex)
-      planes[i] = facets(corners_of(f.scene.bodies[i]));
-  f.run_scene_poses();
   int certified = 0, far = 0;
   for (int trial = 0; trial < 30; ++trial) {
     for (int i = 1; i < n; ++i) {

@@ -119,6 +119,15 @@ Piece coupled_free_piece(const IslandSystem& s, std::mt19937& rng) {
   return piece;
 }
 
+// The piece's solution for right-hand side g by the monolithic backend; empty if it did not factor.
+Eigen::VectorXd solve_monolithic(const IslandSystem& s, const Piece& piece, const Eigen::VectorXd& g) {
+  MonolithicSystem system;
+  system.assign(s);
+  Eigen::VectorXd x;
+  if (system.factor(piece)) system.solve(g, x);
+  return x;
+}
+
 // A free row coupled to its normal, (A x)_j + shift_j x_j - tie_j x_n = g_j (the interior-point
 // steps' rows), is solved by the body-space backend as a dense LU of the same equations does.
 TEST(MonolithicSystem, SolvesFreeRowsCoupledToTheirNormalLikeADenseSolve) {
@@ -132,12 +141,9 @@ TEST(MonolithicSystem, SolvesFreeRowsCoupledToTheirNormalLikeADenseSolve) {
     e(j, j) += piece.shift[j];
     if (s.normal_of[j] >= 0) e(j, s.normal_of[j]) -= piece.tie[j];
   }
-  MonolithicSystem system;
-  system.assign(s);
-  ASSERT_TRUE(system.factor(piece));
   const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
-  Eigen::VectorXd x;
-  system.solve(g, x);
+  const Eigen::VectorXd x = solve_monolithic(s, piece, g);
+  ASSERT_EQ(x.size(), s.rows) << "the monolithic backend did not factor";
   const Eigen::VectorXd reference = e.partialPivLu().solve(g);
   EXPECT_LE((x - reference).norm(), 1e-8 * reference.norm());
 }
@@ -151,12 +157,9 @@ TEST(SubstructuredSystem, SolvesFreeRowsCoupledToTheirNormalLikeTheMonolithicBac
     const IslandSystem s = gather_island(scene, i);
     if (s.bodies < 2) continue;
     const Piece piece = coupled_free_piece(s, rng);
-    MonolithicSystem monolithic;
-    monolithic.assign(s);
-    ASSERT_TRUE(monolithic.factor(piece));
     const Eigen::VectorXd g = Eigen::VectorXd::Random(s.rows);
-    Eigen::VectorXd reference;
-    monolithic.solve(g, reference);
+    const Eigen::VectorXd reference = solve_monolithic(s, piece, g);
+    ASSERT_EQ(reference.size(), s.rows) << "the monolithic backend did not factor";
     for (int per_part : {1, 2}) {
       std::vector<int> part_of_body(s.bodies);
       for (int b = 0; b < s.bodies; ++b) part_of_body[b] = b / per_part;
