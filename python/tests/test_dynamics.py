@@ -149,10 +149,13 @@ def test_a_resting_box_contact_impulses_sum_to_m_g_h(mass):
     np.testing.assert_allclose(world.velocities[1], 0.0, atol=REST_RTOL * G * h)
 
 
+# PGS converges linearly, at a rate that depends on its rows' order (which the contact points'
+# order sets): on this stack 2000 sweeps leave friction impulses of ~1e-8 of the weight above each
+# box, 400 to 600 sweeps up to 2e-3.
 STACK_SOLVERS = [
     ({}, 1.0, 1000.0, REST_RTOL),
     ({"solver": "substructured", "partitioner": "mix", "refiner": "fm", "nmax": 2}, 1.0, 1000.0, REST_RTOL),
-    ({"solver": "pgs", "pgs_iterations": 400}, 125.0, 125.0, 1e-3),
+    ({"solver": "pgs", "pgs_iterations": 2000}, 125.0, 125.0, 1e-3),
 ]
 
 

@@ -17,11 +17,12 @@ constexpr std::uint64_t kFresh = std::uint64_t{1} << 63;  // marks a point that 
 // - A point with one deeper by more than the allowance near it across n (similar normal) is
 //   dropped: within a tenth of `size`, or so far below it that only a turn by more than about 30
 //   degrees could bring it down as deep. A rock's vertices lie at different heights.
-// - A footprint of at most four: the deepest point, the farthest from it, the one spanning the
+// - A footprint of at most four: a first point, the farthest from it, the one spanning the
 //   largest triangle with those two, and the one adding the most area to that triangle (lengths
-//   across n, each less twice the point's height above the deepest). Drawn from the points as deep
+//   across n, each less twice the point's height above the first). Drawn from the points as deep
 //   as the deepest if they span a triangle (a rock resting on the three vertices of a small face
-//   needs all three), else from all. A footprint bounds a flat patch; a pair at rest needs no more.
+//   needs all three), the first being the one farthest from their centre; else from all, the first
+//   being the deepest. A footprint bounds a flat patch; a pair at rest needs no more.
 // - When the footprint was drawn from all points, the points in contact (distance <= 0) beside it
 //   (over none of its triangles): a turn about its edge drives them further in at once, and its
 //   higher points do not hold them. A rock rocking on the floor between two corners (two points as
@@ -66,6 +67,17 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     if (pts[i].distance <= pts[pick[0]].distance + allowance) level.push_back(i);
   const bool spread = level.size() < 3;  // the footprint is drawn from all points
   if (spread) level = low;
+  if (!spread) {
+    // Points as deep as the deepest (a face on a face: all of them, to round-off) start the
+    // footprint from the one farthest from their centre, not from the deepest: which is deepest
+    // turns on round-off there, and a resting pair's points would alternate between two sets.
+    Vec3 centre = Vec3::Zero();
+    for (int i : level) centre += across(i);
+    centre /= static_cast<double>(level.size());
+    double farthest = -1;
+    for (int i : level)
+      if ((across(i) - centre).squaredNorm() > farthest) farthest = (across(i) - centre).squaredNorm(), pick[0] = i;
+  }
   const Vec3 p0 = across(pick[0]);
   auto height = [&](int i) { return 2 * (pts[i].distance - pts[pick[0]].distance); };
   int far = pick[0];
