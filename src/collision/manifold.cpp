@@ -75,8 +75,13 @@ int reduce(std::vector<PairPoint>& pts, const Vec3& n, double size, double allow
     for (int i : level) centre += across(i);
     centre /= static_cast<double>(level.size());
     double farthest = -1;
-    for (int i : level)
-      if ((across(i) - centre).squaredNorm() > farthest) farthest = (across(i) - centre).squaredNorm(), pick[0] = i;
+    for (int i : level) {
+      const double d = (across(i) - centre).squaredNorm();
+      if (d > farthest) {
+        farthest = d;
+        pick[0] = i;
+      }
+    }
   }
   const Vec3 p0 = across(pick[0]);
   auto height = [&](int i) { return 2 * (pts[i].distance - pts[pick[0]].distance); };
