@@ -71,6 +71,7 @@ const std::vector<NumericOption>& numeric_options() {
       {"erp", kErp, false, false, [](RunOptions& o, double x) { o.step.erp = x; }},
       {"slop", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.slop = x; }},
       {"sigma_floor", kPositive, false, false, [](RunOptions& o, double x) { o.step.sigma_floor = x; }},
+      {"contact_prox", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.contact_prox = x; }},
       {"contact_margin", kAtLeastZero, false, false, [](RunOptions& o, double x) { o.step.contact_margin = x; }},
       {"threads", kAtLeastZero, true, false, [](RunOptions& o, double x) { o.solver.threads = int(x); }},
       {"max_factorizations", kPositive, true, false,
@@ -289,7 +290,7 @@ World(scene, parameters=None, **options)
   parameters  a built-in scene's parameters, {name: value}, over its defaults
   options     solver ('direct', 'pgs', 'substructured'), partitioner ('none', 'bfs',
               'mindp', 'maxdp', 'mr', 'mix', 'metis'), refiner ('none', 'kl', 'fm', 'fm-rollback'),
-              dt, and the numeric fields of include/rbpart/params.hpp: erp, slop, sigma_floor,
+              dt, and the numeric fields of include/rbpart/params.hpp: erp, slop, sigma_floor, contact_prox,
               contact_margin, threads, max_factorizations, pgs_iterations, pgs_tolerance, nmax,
               tau_mr, tau_mix, debug_checks.
 Arrays are copies, one row per body in scene order (static bodies included).)")

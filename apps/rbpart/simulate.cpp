@@ -210,6 +210,10 @@ Run add_simulate(CLI::App& app) {
                   "Regularisation floor relative to each row's diagonal of J M^-1 J^T")
       ->check(positive())
       ->capture_default_str();
+  cmd->add_option("--contact-prox", o->step_params.contact_prox,
+                  "Persisting contacts' friction yields towards the step before's impulse by this much of its diagonal")
+      ->check(at_least(0))
+      ->capture_default_str();
   cmd->add_option("--contact-margin", o->step_params.contact_margin,
                   "Contacts are generated up to this separation (m), handled speculatively")
       ->check(at_least(0))

@@ -16,6 +16,11 @@ struct StepParams {
   double slop = 0.0001;          // m of penetration tolerated without correction
   // Regularisation floor: sigma_j >= sigma_floor * (J M^-1 J^T)_jj keeps A SPD with redundant rows.
   double sigma_floor = 1e-6;
+  // Proximal term of a persisting contact's friction rows (docs/design.md#dynamics): sigma_t +=
+  // contact_prox (J M^-1 J^T)_tt and q_t -= that times the step before's impulse, so that friction
+  // yields only while its impulse changes (no creep at rest) and redundant friction rows do not leave
+  // the step's problem near singular.
+  double contact_prox = 1e-3;
   // Friction tangent t1 follows the sliding velocity when it exceeds this (m/s).
   double sliding_velocity_eps = 1e-4;
   // Position post-stabilisation (project/position_projection.hpp): after each step, Gauss-Newton

@@ -207,6 +207,7 @@ def test_builtin_scene_parameters_shape_the_scene():
     ("box_stack", None, {"solver": "simplex"}),
     ("box_stack", None, {"solver": "newton"}),  # the direct solver is the Newton solver
     ("box_stack", None, {"sigma_floor": 0.0}),  # which divides by every row's regularisation
+    ("box_stack", None, {"contact_prox": -1e-3}),
     ("box_stack", None, {"solver": "substructured"}),  # needs a partitioner
     ("box_stack", None, {"no_such_option": 1}),
     ("box_stack", {"boxes": -2}, {}),

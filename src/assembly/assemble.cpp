@@ -254,6 +254,20 @@ void assemble_rows(const std::vector<Contact>& contacts, const std::vector<Joint
       rows.lambda[n_row] = last[0]->lambda;
       rows.state[n_row] = last[0]->state;
     }
+    // The friction of a contact of the step before yields while its impulses change: w_t +=
+    // contact_prox D_t (lambda_t - warm_t), D_t the row's diagonal of J M^-1 J^T. At rest (the
+    // impulses repeat) it is rigid and does not creep, as it would under a plain sigma of that size;
+    // but a Newton piece that is wrong on a contact's redundant friction rows (eight on a resting
+    // face's three planar freedoms) swings their impulses by ~ w / (contact_prox D_t), not by
+    // ~ w / (sigma_floor D_t). A new contact (an impact, a cold start) is rigid, and so are normals:
+    // the term on them lets a light body under a heavy one yield by centimetres while its load
+    // changes (bench/results/intel-xeon-2core/contact-prox/).
+    if (last[0])
+      for (int r = n_row + 1; r < n_row + 3; ++r) {
+        const double yield = params.contact_prox * row_diagonal(rows, r, bodies);
+        rows.sigma[r] += yield;
+        rows.q[r] -= yield * rows.lambda[r];
+      }
   });
 
   // Joints: position errors become Baumgarte rates, compliances regularisations.

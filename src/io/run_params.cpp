@@ -25,6 +25,7 @@ ParamList run_parameters(const StepParams& step, const SolverParams& solver) {
       {"erp", real(step.erp)},
       {"slop", real(step.slop)},
       {"sigma_floor", real(step.sigma_floor)},
+      {"contact_prox", real(step.contact_prox)},
       {"sliding_velocity_eps", real(step.sliding_velocity_eps)},
       {"contact_margin", real(step.contact_margin)},
       {"joint_projection_iterations", integer(step.joint_projection_iterations)},

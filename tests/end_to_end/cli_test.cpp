@@ -106,6 +106,7 @@ TEST_F(Cli, NumericOptionsNameTheirBound) {
       // The direct solver's body-space systems divide by every row's regularisation.
       {"--sigma-floor 0", "--sigma-floor: must be positive (got 0)"},
       {"--slop nan", "--slop: must be a number (got 'nan')"},
+      {"--contact-prox -1e-3", "--contact-prox: must be at least 0 (got -1e-3)"},
   };
   for (const auto& [args, expect] : cases) {
     const Result r = run("simulate --scene box_stack " + args);

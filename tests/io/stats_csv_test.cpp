@@ -131,7 +131,7 @@ TEST(RunParameters, EveryParameterByNameAndExact) {
   solver.pgs_iterations = 12345;
   std::map<std::string, std::string> by_name;
   for (const auto& [name, value] : run_parameters(step, solver)) by_name[name] = value;
-  for (const char* name : {"erp", "slop", "sigma_floor", "sliding_velocity_eps", "contact_margin",
+  for (const char* name : {"erp", "slop", "sigma_floor", "contact_prox", "sliding_velocity_eps", "contact_margin",
                            "joint_projection_iterations", "joint_tolerance", "projection_depth", "projection_turn",
                            "solver", "max_factorizations", "pgs_iterations", "pgs_tolerance",
                            "threads"})

@@ -58,6 +58,30 @@ TEST_P(Analytic, SlopeBlockBelowFrictionAngleStaysPut) {
   EXPECT_LT((world_bodies(w).x[1] - start).norm(), 1e-3);
 }
 
+TEST_P(Analytic, SlopeBlockBelowFrictionAngleDoesNotCreep) {
+  // A sticking friction row obeys J_t u = -sigma_t lambda_t: under a plain regularisation of
+  // contact_prox's size (1e-3 of the row's diagonal) the block creeps downhill at ~1e-4 m/s. The
+  // contacts' proximal term yields only while the impulses change, so once the block rests it creeps
+  // only at the floor's rate (1e-6 of the diagonal, ~1e-7 m/s).
+  const double theta = 20 * M_PI / 180;
+  const auto creep = [&](const StepParams& params) {
+    SolverParams solver;
+    solver.kind = GetParam();
+    PartitionParams partition;
+    if (solver.kind == SolverKind::Substructured) partition.partitioner = PartitionerKind::Bfs;
+    World w(scene("slope", {{"angle", "20"}, {"friction", "0.5"}}), params, solver, partition);
+    for (int i = 0; i < 60; ++i) step(w);
+    const double start = downhill(w, theta);
+    for (int i = 0; i < 120; ++i) step(w);  // 2 s
+    return downhill(w, theta) - start;
+  };
+  StepParams plain;
+  plain.contact_prox = 0;
+  plain.sigma_floor = StepParams{}.contact_prox;
+  EXPECT_GT(creep(plain), 1e-4);
+  EXPECT_LT(std::abs(creep(StepParams{})), 1e-5);
+}
+
 TEST_P(Analytic, SlopeBlockAboveFrictionAngleSlidesWithCoulombAcceleration) {
   const double theta = 35 * M_PI / 180, mu = 0.3;
   World w = world(scene("slope", {{"angle", "35"}, {"friction", "0.3"}}));
