@@ -53,9 +53,9 @@ void project_onto_bounds(const IslandSystem& s, Eigen::VectorXd& lambda, IslandC
 }
 
 // The kinetic energy an answer leaves: with q = J u* + b (u* the free motion, b assemble.cpp's
-// position bias and friction's proximal term) and A = J M^-1 J^T + Sigma, the bodies' kinetic energy changes from the free
-// motion's by E(lambda) - lambda^T Sigma lambda / 2 - lambda^T b, E(lambda) = lambda^T A lambda / 2
-// + lambda^T q. An exact answer does no positive work (lambda_j w_j <= 0 on every row: w = 0 on
+// position bias and friction's proximal term) and A = J M^-1 J^T + Sigma, the bodies' kinetic
+// energy changes from the free motion's by E(lambda) - lambda^T Sigma lambda / 2 - lambda^T b,
+// E(lambda) = lambda^T A lambda / 2 + lambda^T q. An exact answer does no positive work (lambda_j w_j <= 0 on every row: w = 0 on
 // free rows, at a bound w pushes outward and every box holds 0), so E <= -lambda^T A lambda / 2 < 0.
 // A point with E > 0 would add energy to the free motion: it is scaled back to t lambda, t = -b' / a
 // (a = lambda^T A lambda, b' = lambda^T q; 0 if b' >= 0), the point of its ray that does no work and

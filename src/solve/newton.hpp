@@ -32,8 +32,9 @@
 // kSettledResidual, or after max_factorizations factorisations (the budget; interior-point steps
 // count one each). An answer that ends unsettled never leaves the bodies more kinetic energy than
 // their free motion (beyond the work of assemble.cpp's b: penetration pushed out, joints' drift
-// corrected, friction's proximal term), as an exact one never does: each unsettled point that would is scaled back towards 0 to the point of its ray that does
-// no work, and the least residual among the points so treated is kept (newton.cpp, energy_scale).
+// corrected, friction's proximal term), as an exact one never does: each unsettled point that
+// would is scaled back towards 0 to the point of its ray that does no work, and the least
+// residual among the points so treated is kept (newton.cpp, energy_scale).
 #include "solve/interior_point.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
