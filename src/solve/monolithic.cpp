@@ -14,7 +14,10 @@ void MonolithicSystem::assign(const IslandSystem& s) {
   h_.resize(6 * s.bodies);
 }
 
-bool MonolithicSystem::factor(const Piece& piece) { return n_.factor(piece); }
+bool MonolithicSystem::factor(const Piece& piece) {
+  n_.assemble(piece);
+  return n_.factor_assembled(&tree_);
+}
 
 void MonolithicSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   h_.setZero();
