@@ -1,10 +1,6 @@
 #include "solve/block_lu.hpp"
 
-#include "core/parallel.hpp"
-#include "core/timer.hpp"
 #include "solve/island_chunks.hpp"
-
-#include <tbb/task_group.h>
 
 #include <Eigen/LU>
 #include <amd.h>
@@ -69,89 +65,23 @@ void BlockLU::analyze(int blocks, const std::vector<int>& start, const std::vect
     }
   }
 
-  // Where each pattern entry lands.
+  // Where each pattern entry lands, and the updates of every position that is eliminated (a split's
+  // trailing blocks never are).
   source_.resize(adjacent.size());
   for (int c = 0; c < nb; ++c)
     for (int a = start[c]; a < start[c + 1]; ++a) source_[a] = slot(position_of_[adjacent[a]], position_of_[c]);
-
-  // Eliminating position j (j < leading: a split's trailing blocks never are) updates every pair of
-  // blocks (p, q) of its fill: block (p, q) -= L (p, j) U (j, q). Each update goes to its target's
-  // owner, min(p, q), and to its target there, in increasing j (a counting sort by target). An
-  // owner's targets: its diagonal block, then its column's L and U blocks.
-  std::vector<std::array<int, 3>> updates;  // {target, L block, U block}, in increasing j
-  for (int j = 0; j < leading; ++j)
+  update_start_.assign(1, 0);
+  update_.clear();
+  for (int j = 0; j < leading; ++j) {
     for (int p = fill_start_[j]; p < fill_start_[j + 1]; ++p)
-      for (int q = fill_start_[j]; q < fill_start_[j + 1]; ++q) updates.push_back({slot(fill_[p], fill_[q]), lower(p), upper(q)});
-  std::vector<int> at(nb + 2 * fill_.size(), 0);  // per slot: its updates, then where the next goes
-  for (const auto& u : updates) ++at[u[0]];
-  target_start_.assign(1, 0);
-  target_slot_.clear();
-  gather_start_.assign(1, 0);
-  const auto add_target = [&](int s) {
-    if (at[s] == 0) return;
-    target_slot_.push_back(s);
-    gather_start_.push_back(gather_start_.back() + at[s]);
-    at[s] = gather_start_[gather_start_.size() - 2];
-  };
-  for (int m = 0; m < nb; ++m) {
-    add_target(m);
-    for (int e = fill_start_[m]; e < fill_start_[m + 1]; ++e) {
-      add_target(lower(e));
-      add_target(upper(e));
-    }
-    target_start_.push_back(static_cast<int>(target_slot_.size()));
+      for (int q = fill_start_[j]; q < fill_start_[j + 1]; ++q)
+        update_.push_back({slot(fill_[p], fill_[q]), lower(p), upper(q)});
+    update_start_.push_back(static_cast<int>(update_.size()));
   }
-  gather_.resize(updates.size());
-  for (const auto& u : updates) gather_[at[u[0]]++] = {u[1], u[2]};
-  tree_updates_ = static_cast<long long>(gather_.size());
   block_.resize(nb + 2 * fill_.size());
   diagonal_.resize(nb);
   z_.resize(nb);
   eliminated_ = 0;
-
-  // The tasks of factor() with chunks: a position whose subtree has less than kChunkedUpdates work
-  // (updates and divisions) joins its parent's subtree task if the parent's subtree has too;
-  // otherwise it is the top of a task (alone if its own subtree is large).
-  task_start_.clear();
-  task_node_.clear();
-  task_parent_.clear();
-  task_children_.clear();
-  if (interior >= 0) return;
-  std::vector<long long> subtree(nb, 0);
-  std::vector<int> parent(nb, -1), top(nb, -1), task_of(nb, -1);
-  for (int j = 0; j < nb; ++j) {
-    subtree[j] += (gather_start_[target_start_[j + 1]] - gather_start_[target_start_[j]]) +
-                  (fill_start_[j + 1] - fill_start_[j]) + 1;
-    if (fill_start_[j + 1] > fill_start_[j]) {
-      parent[j] = fill_[fill_start_[j]];
-      subtree[parent[j]] += subtree[j];
-    }
-  }
-  const auto small = [&](int j) { return subtree[j] < kChunkedUpdates; };
-  for (int j = nb - 1; j >= 0; --j) top[j] = small(j) && parent[j] >= 0 && small(parent[j]) ? top[parent[j]] : j;
-  for (int j = 0; j < nb; ++j)
-    if (top[j] == j) {
-      task_of[j] = static_cast<int>(task_start_.size());
-      task_start_.push_back(0);
-    }
-  const int tasks = static_cast<int>(task_start_.size());
-  task_start_.assign(tasks + 1, 0);
-  for (int j = 0; j < nb; ++j) ++task_start_[task_of[top[j]] + 1];
-  for (int k = 0; k < tasks; ++k) task_start_[k + 1] += task_start_[k];
-  task_node_.resize(nb);
-  at.assign(task_start_.begin(), task_start_.end() - 1);
-  for (int j = 0; j < nb; ++j) task_node_[at[task_of[top[j]]]++] = j;
-  task_parent_.assign(tasks, -1);
-  task_children_.assign(tasks, 0);
-  task_work_.assign(tasks, 0.0);
-  task_path_.assign(tasks, 0.0);
-  task_longest_.assign(tasks, 0.0);
-  pending_.reset(new std::atomic<int>[tasks]);
-  for (int j = 0; j < nb; ++j)
-    if (top[j] == j && parent[j] >= 0) {
-      task_parent_[task_of[j]] = task_of[top[parent[j]]];
-      ++task_children_[task_of[top[parent[j]]]];
-    }
 }
 
 int BlockLU::slot(int i, int k) const {
@@ -182,124 +112,37 @@ void divide_on_the_right(const Eigen::PartialPivLU<BlockLU::Mat6>& lu, BlockLU::
 
 }  // namespace
 
-bool BlockLU::pivot(int m) {
-  Eigen::PartialPivLU<Mat6>& lu = diagonal_[m];
-  lu.compute(block_[m]);
-  const double least = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
-  if (!(std::isfinite(least) && least > 0)) return false;
-  for (int e = fill_start_[m]; e < fill_start_[m + 1]; ++e) divide_on_the_right(lu, block_[lower(e)]);
-  return true;
-}
-
-void BlockLU::load(const double* values) {
+bool BlockLU::eliminate(const double* values, int count, IslandChunks* chunks) {
   eliminated_ = 0;
   for (Mat6& b : block_) b.setZero();
   for (std::size_t a = 0; a < source_.size(); ++a) block_[source_[a]] = Eigen::Map<const Mat6>(values + 36 * a);
-}
-
-bool BlockLU::eliminate(int count) {
-  for (int m = 0; m < blocks_; ++m) {
-    update(target_start_[m], target_start_[m + 1]);
-    if (m < count && !pivot(m)) return false;
+  for (int j = 0; j < count; ++j) {
+    Eigen::PartialPivLU<Mat6>& lu = diagonal_[j];
+    lu.compute(block_[j]);
+    const double pivot = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
+    if (!(std::isfinite(pivot) && pivot > 0)) return false;
+    for (int e = fill_start_[j]; e < fill_start_[j + 1]; ++e) divide_on_the_right(lu, block_[lower(e)]);
+    const int first = update_start_[j], last = update_start_[j + 1];
+    if (chunks && last - first >= kChunkedUpdates) {
+      chunks->each(last - first, [&](int u) { apply_update(update_[first + u]); });
+    } else {
+      for (int u = first; u < last; ++u) apply_update(update_[u]);
+    }
   }
   eliminated_ = count;
   return true;
 }
 
-bool BlockLU::eliminate_tree(IslandChunks& chunks) {
-  const Timer wall;
-  const int tasks = static_cast<int>(task_parent_.size());
-  for (int k = 0; k < tasks; ++k) pending_[k].store(task_children_[k], std::memory_order_relaxed);
-  std::atomic<bool> failed{false};
-  // Owner m's time into a task's work and critical path: a large owner's updates in kMaxChunks
-  // ranges of targets with about as many updates each, in parallel if the owner has
-  // IslandChunks::kMinParallelItems of them, each range timed.
-  const auto owner = [&](int m, double& work, double& path) {
-    const int first = target_start_[m], last = target_start_[m + 1];
-    const int updates = gather_start_[last] - gather_start_[first];
-    if (updates >= kChunkedUpdates) {
-      std::array<double, kMaxChunks> ms{};
-      const auto range = [&](std::size_t c) {
-        const Timer timer;
-        const auto bound = [&](std::size_t k) {  // the first target of range k
-          const long long share = static_cast<long long>(updates) * static_cast<long long>(k) / kMaxChunks;
-          return static_cast<int>(std::lower_bound(gather_start_.begin() + first, gather_start_.begin() + last,
-                                                   gather_start_[first] + share) -
-                                  gather_start_.begin());
-        };
-        update(bound(c), c + 1 == kMaxChunks ? last : bound(c + 1));
-        ms[c] = timer.ms();
-      };
-      if (updates >= IslandChunks::kMinParallelItems) {
-        parallel_for_each(kMaxChunks, range);
-      } else {
-        for (std::size_t c = 0; c < kMaxChunks; ++c) range(c);
-      }
-      for (const double v : ms) work += v;
-      path += *std::max_element(ms.begin(), ms.end());
-      const Timer timer;
-      if (!pivot(m)) failed = true;
-      const double ms_pivot = timer.ms();
-      work += ms_pivot;
-      path += ms_pivot;
-    } else {
-      const Timer timer;
-      update(first, last);
-      if (!pivot(m)) failed = true;
-      const double ms = timer.ms();
-      work += ms;
-      path += ms;
-    }
-  };
-  // Task k, then its parent when k was the parent's last child to finish.
-  const auto run = [&](int k) {
-    while (true) {
-      double work = 0, path = 0;
-      for (int i = task_start_[k]; i < task_start_[k + 1] && !failed; ++i) owner(task_node_[i], work, path);
-      task_work_[k] = work;
-      task_path_[k] = path;
-      const int p = task_parent_[k];
-      if (p < 0 || pending_[p].fetch_sub(1) != 1) return;
-      k = p;
-    }
-  };
-  if (tree_updates_ >= IslandChunks::kMinParallelItems) {
-    tbb::task_group group;
-    for (int k = 0; k < tasks; ++k)
-      if (task_children_[k] == 0) group.run([&run, k] { run(k); });
-    group.wait();
-  } else {
-    for (int k = 0; k < tasks; ++k)
-      if (task_children_[k] == 0) run(k);
-  }
-  if (failed) return false;
-  // The critical path: the longest chain of tasks (a task's children come before it).
-  task_longest_.assign(tasks, 0.0);
-  double longest = 0;
-  for (int k = 0; k < tasks; ++k) {
-    task_longest_[k] += task_path_[k];
-    longest = std::max(longest, task_longest_[k]);
-    chunks.work_ms += task_work_[k];
-    if (task_parent_[k] >= 0) task_longest_[task_parent_[k]] = std::max(task_longest_[task_parent_[k]], task_longest_[k]);
-  }
-  chunks.critical_path_ms += longest;
-  chunks.wall_ms += wall.ms();
-  eliminated_ = blocks_;
-  return true;
-}
-
 bool BlockLU::factor(const double* values, IslandChunks* chunks) {
   if (interior_ >= 0) throw std::logic_error("BlockLU::factor on a split analysis");
-  load(values);
-  return chunks ? eliminate_tree(*chunks) : eliminate(blocks_);
+  return eliminate(values, blocks_, chunks);
 }
 
 bool BlockLU::factor_schur(const double* values, Eigen::MatrixXd& schur) {
   if (interior_ < 0) throw std::logic_error("BlockLU::factor_schur without an interior");
   const int k = blocks_ - interior_;
   schur.resize(6 * k, 6 * k);
-  load(values);
-  if (!eliminate(interior_)) return false;
+  if (!eliminate(values, interior_, nullptr)) return false;
   for (int c = 0; c < k; ++c)
     for (int r = 0; r < k; ++r) schur.block<6, 6>(6 * r, 6 * c) = block_[slot(interior_ + r, interior_ + c)];
   return schur.allFinite();

@@ -16,17 +16,10 @@
 // diagonal blocks (M plus every row's J^T J / sigma on its body), which is what makes that safe, and
 // the Newton solver refines every solution against the exact equations (newton.cpp).
 //
-// The factor is computed owner by owner: position m owns its diagonal block, column m's L blocks and
-// row m's U blocks, and before eliminating m it applies to them every update from the positions
-// below it (left-looking), each block's updates in the order of the positions they come from: the
-// same operations in the same order as eliminating column by column and updating every pair of
-// blocks below (right-looking), so the same factor bit for bit. An owner's updates read only
-// blocks of its descendants in the elimination tree, and write only its own, so the subtrees of
-// the tree are independent: given IslandChunks (the substructured backend's interface system),
-// factor() runs the tree as tasks, each after its children, and an owner with at least
-// kChunkedUpdates updates splits them into kMaxChunks ranges of target blocks. Its critical path is
-// the tree's longest chain of tasks (each large owner at its slowest chunk), the time on
-// unlimited cores.
+// Eliminating block j updates every pair of blocks below it in its column and row, each update
+// writing its own block, so they can run in parallel: given IslandChunks, a column with at least
+// kChunkedUpdates updates runs them in its chunks (the substructured backend's interface system).
+// The result is the same bit for bit.
 //
 // With an `interior`, the first `interior` blocks are eliminated first (in AMD order among themselves)
 // and the others after them in their own order, every two of them adjacent; factor_schur() stops
@@ -36,8 +29,6 @@
 #include <Eigen/StdVector>
 
 #include <array>
-#include <atomic>
-#include <memory>
 #include <vector>
 
 namespace rbpart {
@@ -47,10 +38,9 @@ class IslandChunks;
 class BlockLU {
  public:
   using Mat6 = Eigen::Matrix<double, 6, 6>;
-  // The least work (block products, ~50 ns each) handed out as its own task or chunk: a subtree of
-  // less runs as one task, and an owner with fewer updates is not split; smaller ones would be
-  // shorter than handing them out on real cores, so the critical path would promise what no machine
-  // reaches.
+  // Updates of one column below which it is not chunked: 16 chunks of fewer products (~50 ns each)
+  // would be shorter than the barrier a column needs on real cores, so the critical path would
+  // promise what no machine reaches.
   static constexpr int kChunkedUpdates = 256;
 
   // `blocks` block rows and columns; block column c holds the block rows adjacent[start[c]] ..
@@ -62,9 +52,7 @@ class BlockLU {
 
   // Factors the values (pattern entry k's block at values + 36 k, column-major, in analyze()'s order
   // of the entries); false if a diagonal block is numerically singular. Needs interior() < 0. With
-  // `chunks`, the elimination tree runs as tasks (in parallel when it has at least
-  // IslandChunks::kMinParallelItems updates) and its time is added to the chunks' tallies: the
-  // tasks' work, the tree's critical path and the wall time.
+  // `chunks`, large columns' updates run in them.
   bool factor(const double* values, IslandChunks* chunks = nullptr);
   // Eliminates the interior only; schur (6 x 6 blocks on the trailing blocks, in their order) <- A_KK -
   // A_KI A_II^-1 A_IK. False if a diagonal block of the elimination is numerically singular. Needs
@@ -80,21 +68,13 @@ class BlockLU {
 
  private:
   using Vec6 = Eigen::Matrix<double, 6, 1>;
-  // Copies the values into the factor's blocks (fill zero).
-  void load(const double* values);
-  // Eliminates the first `count` blocks in order (the trailing ones of a split only take their
-  // updates).
-  bool eliminate(int count);
-  // Eliminates every block as the elimination tree's tasks, timed into `chunks`.
-  bool eliminate_tree(IslandChunks& chunks);
-  // Applies owner m's updates (targets [first, last) of its own), each target's in order.
-  void update(int first, int last) {
-    for (int t = first; t < last; ++t)
-      for (int g = gather_start_[t]; g < gather_start_[t + 1]; ++g)
-        block_[target_slot_[t]].noalias() -= block_[gather_[g][0]] * block_[gather_[g][1]];
+  // Copies the values into the factor's blocks (fill zero) and eliminates the first `count` blocks.
+  bool eliminate(const double* values, int count, IslandChunks* chunks);
+  // target -= L U for an update {target, L block, U block}; inlined into both of eliminate()'s loops
+  // (a call per 6 x 6 product cost a tenth of the factorisation).
+  [[gnu::always_inline]] void apply_update(const std::array<int, 3>& t) {
+    block_[t[0]].noalias() -= block_[t[1]] * block_[t[2]];
   }
-  // Factors position m's diagonal block and divides its column's L blocks by it; false if singular.
-  bool pivot(int m);
   // Storage slots: position j's diagonal block is j; pattern entry e (row i > j of column j) has its
   // L block (i, j) at nb + 2e and its U block (j, i) at nb + 2e + 1.
   int lower(int e) const { return blocks_ + 2 * e; }
@@ -106,18 +86,8 @@ class BlockLU {
   std::vector<int> block_of_, position_of_;   // position <-> block
   std::vector<int> fill_start_, fill_;        // per position j: the positions i > j of its column
   std::vector<int> source_;                   // per pattern entry: its storage slot
-  // Per owner m: its target blocks [target_start_[m], target_start_[m + 1]); per target: its slot and
-  // its updates [gather_start_[t], gather_start_[t + 1]), {L block, U block}: target -= L U.
-  std::vector<int> target_start_, target_slot_, gather_start_;
-  std::vector<std::array<int, 2>> gather_;
-  // The elimination tree as tasks (factor() with chunks), in increasing order of their top position:
-  // task k eliminates positions task_node_[task_start_[k] ..] in increasing order (one large owner,
-  // or a subtree of less than kChunkedUpdates work), after its children; its parent task is
-  // task_parent_[k] (-1: a root).
-  std::vector<int> task_start_, task_node_, task_parent_, task_children_;
-  long long tree_updates_ = 0;  // every owner's updates
-  std::unique_ptr<std::atomic<int>[]> pending_;  // per task: children not finished
-  std::vector<double> task_work_, task_path_, task_longest_;  // per task: ms of work, of its own path, of its chain
+  std::vector<int> update_start_;             // per position j: its updates
+  std::vector<std::array<int, 3>> update_;    // {target, L block, U block}: target -= L U
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> block_;  // the factor
   std::vector<Eigen::PartialPivLU<Mat6>, Eigen::aligned_allocator<Eigen::PartialPivLU<Mat6>>> diagonal_;  // D_j's LU
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> z_;                // the substitutions' vector

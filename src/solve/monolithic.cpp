@@ -14,10 +14,7 @@ void MonolithicSystem::assign(const IslandSystem& s) {
   h_.resize(6 * s.bodies);
 }
 
-bool MonolithicSystem::factor(const Piece& piece) {
-  n_.assemble(piece);
-  return n_.factor_assembled(&tree_);
-}
+bool MonolithicSystem::factor(const Piece& piece) { return n_.factor(piece); }
 
 void MonolithicSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   h_.setZero();

@@ -1,11 +1,8 @@
 #pragma once
 // The monolithic backend of the Newton solver's linear algebra (linear_system.hpp, DESIGN.md §3):
 // the whole island factored in body space (body_space.hpp: N u = h over every body and row,
-// factored by the block sparse LU of block_lu.hpp, tied or not, its elimination tree as tasks: in
-// parallel on a large island, so that the substructured backend is measured against the fastest
-// factorisation of the whole island that rbpart has).
+// factored by the block sparse LU of block_lu.hpp, tied or not).
 #include "solve/body_space.hpp"
-#include "solve/island_chunks.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
 
@@ -24,7 +21,6 @@ class MonolithicSystem final : public LinearSystem {
 
  private:
   BodySpaceSystem n_;
-  IslandChunks tree_;  // one chunk: the tree's tasks run, their tallies are not read
   Eigen::VectorXd h_;
   std::vector<int> bodies_, rows_;  // 0..n-1: N holds every body and row of the island
   std::vector<Mat6> mass_;

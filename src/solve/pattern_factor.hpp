@@ -29,8 +29,8 @@ class PatternFactor {
   int size() const { return 6 * blocks_; }
   void set_zero();
 
-  // Factors the current values; false if numerically singular. With `chunks`, the block LU runs its
-  // elimination tree as tasks, timed into them (BlockLU::factor).
+  // Factors the current values; false if numerically singular. With `chunks`, the block LU's large
+  // columns run their updates in them (BlockLU::factor).
   bool factor(IslandChunks* chunks = nullptr);
   // Factors the current values A = [A_II A_IK; A_KI A_KK] (I its first `interior` blocks, K the
   // others) by LU with I's pivots taken among I's rows and K eliminated last, and sets `schur` to

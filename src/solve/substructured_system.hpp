@@ -110,8 +110,8 @@ class SubstructuredSystem final : public LinearSystem {
   Split split_;
   int interface_rows_ = 0;
   BodySpaceSystem interface_;  // S on the interface bodies: N_T from the interface rows, no mass
-  // S's factorisation runs its elimination tree as tasks, its large owners' updates (nearly dense:
-  // every K_i is a clique) in kMaxChunks ranges, timed here (BlockLU::factor).
+  // S's factorisation runs the updates of its large columns (nearly dense: every K_i is a clique) in
+  // kMaxChunks chunks (BlockLU::kChunkedUpdates).
   IslandChunks interface_chunks_;
   Eigen::VectorXd r_;
   SubstructuredCost last_, total_;
