@@ -10,6 +10,8 @@ namespace rbpart {
 struct SolveStats {
   int iterations = 0;      // Newton steps (Newton solver) or sweeps (PGS), summed over islands
   int factorizations = 0;  // matrix factorisations, summed over islands (0 for PGS)
+  // The most factorisations one island took: the Newton budget's unit (max_factorizations).
+  int island_factorizations = 0;
   // Islands whose answer ended above the residual 1e-9: approximate impulses (Newton solver).
   int unsettled = 0;
   double residual = 0;     // max scaled natural-map residual over all rows (dimensionless)

@@ -50,7 +50,7 @@ std::array<double, StatsCsvWriter::kColumns.size()> StatsCsvWriter::values(const
           double(q.interface_rows), double(q.interface_bodies), double(q.edge_cut), p.collide_ms, p.assemble_ms,
           p.graph_ms, p.partition_ms, p.refine_ms, p.solve_ms, p.integrate_ms, p.project_ms, p.total_ms,
           double(v.iterations), double(v.factorizations), v.residual, s.max_penetration, s.kinetic_energy,
-          v.factor_ms, v.work_ms, v.critical_path_ms, double(v.unsettled)};
+          v.factor_ms, v.work_ms, v.critical_path_ms, double(v.unsettled), double(v.island_factorizations)};
 }
 
 StatsCsvWriter::ColumnKind StatsCsvWriter::column_kind(std::size_t column) {

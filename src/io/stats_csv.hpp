@@ -18,11 +18,12 @@ namespace rbpart {
 class StatsCsvWriter {
  public:
   // The columns, in file order; names follow the StepStats / StepProfile fields.
-  static constexpr std::array<const char*, 27> kColumns = {
+  static constexpr std::array<const char*, 28> kColumns = {
       "step", "bodies", "contacts", "rows", "islands", "parts", "interface_rows", "interface_bodies",
       "edge_cut", "collide_ms", "assemble_ms", "graph_ms", "partition_ms", "refine_ms", "solve_ms",
       "integrate_ms", "project_ms", "total_ms", "solver_iterations", "factorizations", "blcp_residual",
-      "max_penetration", "kinetic_energy", "factor_ms", "work_ms", "critical_path_ms", "unsettled"};
+      "max_penetration", "kinetic_energy", "factor_ms", "work_ms", "critical_path_ms", "unsettled",
+      "island_factorizations"};
 
   // A step's value of every column, in kColumns order (as numbers, before the file's formatting),
   // and what each column holds: counts, wall times (the "_ms" columns) or physical quantities.

@@ -3,6 +3,8 @@
 #include "solve/bounds.hpp"
 #include "solve/residual.hpp"
 
+#include <algorithm>
+
 namespace rbpart {
 
 void island_warm_start(const IslandSystem& s, const Rows& rows, Eigen::VectorXd& lambda, std::vector<RowState>& state) {
@@ -28,6 +30,7 @@ NewtonResult solve_island_newton(IslandSystem& s, LinearSystem& system, int max_
 void add_island_result(const NewtonResult& result, SolveStats& stats) {
   stats.iterations += result.iterations;
   stats.factorizations += result.factorizations;
+  stats.island_factorizations = std::max(stats.island_factorizations, result.factorizations);
   stats.factor_ms += result.factor_ms;
   stats.unsettled += !result.settled;
   stats.residual = std::max(stats.residual, result.residual);

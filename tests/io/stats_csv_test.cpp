@@ -46,6 +46,7 @@ StepStats numbered_stats() {
   s.solve.work_ms = 25.5;
   s.solve.critical_path_ms = 26.5;
   s.solve.unsettled = 27;
+  s.solve.island_factorizations = 28;
   return s;
 }
 
@@ -78,10 +79,10 @@ TEST(StatsCsv, HeaderThenOneExactLinePerStep) {
             "step,bodies,contacts,rows,islands,parts,interface_rows,interface_bodies,edge_cut,collide_ms,"
             "assemble_ms,graph_ms,partition_ms,refine_ms,solve_ms,integrate_ms,project_ms,total_ms,solver_iterations,"
             "factorizations,blcp_residual,max_penetration,kinetic_energy,factor_ms,work_ms,critical_path_ms,"
-            "unsettled");
+            "unsettled,island_factorizations");
   EXPECT_EQ(split(lines[0], ',').size(), StatsCsvWriter::kColumns.size());
 
-  // Row 1: columns 1..20 and 24..27 hold their own number (the times n + 0.5), 21..23 are exact.
+  // Row 1: columns 1..20 and 24..28 hold their own number (the times n + 0.5), 21..23 are exact.
   const std::vector<std::string> row = split(lines[1], ',');
   ASSERT_EQ(row.size(), StatsCsvWriter::kColumns.size());
   for (int c = 0; c < static_cast<int>(row.size()); ++c) {

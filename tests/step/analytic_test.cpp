@@ -39,7 +39,9 @@ class Analytic : public ::testing::TestWithParam<SolverKind> {
   static const StepStats& step(World& w) {
     const StepStats& s = w.step();
     EXPECT_LE(s.solve.residual, kSettledResidual) << "step " << s.step;
-    EXPECT_LE(s.solve.factorizations, s.islands * w.solver_params().max_factorizations) << "step " << s.step;
+    EXPECT_LE(s.solve.island_factorizations, w.solver_params().max_factorizations) << "step " << s.step;
+    EXPECT_LE(s.solve.island_factorizations, s.solve.factorizations) << "step " << s.step;
+    EXPECT_LE(s.solve.factorizations, s.islands * s.solve.island_factorizations) << "step " << s.step;
     return s;
   }
 };
