@@ -50,6 +50,7 @@ const StatField kStatFields[] = {
     {"kinetic_energy", [](const StepStats& s) { return s.kinetic_energy; }},
     {"critical_path_ms", [](const StepStats& s) { return s.solve.critical_path_ms; }},
     {"unsettled", [](const StepStats& s) -> double { return s.solve.unsettled; }},
+    {"island_factorizations", [](const StepStats& s) -> double { return s.solve.island_factorizations; }},
 };
 
 enum ShapeCode : std::uint8_t { kSphere = 0, kBox = 1, kCapsule = 2, kCylinder = 3, kConvex = 4 };

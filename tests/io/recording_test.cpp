@@ -192,6 +192,7 @@ TEST_F(RecordingTest, FramesHoldPosesGraphAndStats) {
     EXPECT_EQ(stat("rows"), stats[f].rows);
     EXPECT_EQ(stat("solve_ms"), stats[f].profile.solve_ms);
     EXPECT_EQ(stat("kinetic_energy"), stats[f].kinetic_energy);
+    EXPECT_EQ(stat("island_factorizations"), stats[f].solve.island_factorizations);
     // Channel 0: the run's islands: {box0, box1, sphere} and three single bodies, no interface.
     ASSERT_EQ(fr.channels.size(), 1u);
     const RecordedChannel& c = fr.channels[0];

@@ -88,6 +88,7 @@ class Player {
       ['edges', frame.edgeU.length],
       ['solver iterations', num(s.solver_iterations)],
       ['factorisations', num(s.factorizations)],
+      ['factorisations, largest island', num(s.island_factorizations)],
       ['unsettled islands', num(s.unsettled)],
       ['BLCP residual', s.blcp_residual === undefined ? '–' : s.blcp_residual.toExponential(2)],
       ['kinetic energy', s.kinetic_energy === undefined ? '–' : `${s.kinetic_energy.toPrecision(4)} J`],
