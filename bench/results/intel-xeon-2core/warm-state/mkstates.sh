@@ -1,6 +1,8 @@
 #!/bin/bash
-# States at the end of the base build's runs (the resting fixtures).
-B=/work/main/build/rbpart
+# mkstates.sh BIN: the resting fixtures, S_NAME.json in the current directory: the states at the
+# end of BIN's runs of the h = 1/60 box pile (seeds 1-10, 300 steps), the h = 0.01 pile (1-12, 500
+# steps) and the Rock Pile (1-8, 500 steps), one solver thread, two runs at a time.
+B=$1
 jobs=()
 for s in 1 2 3 4 5 6 7 8 9 10; do jobs+=("bp$s --scene box_pile --set mass_ratio_set=1 --set seed=$s --steps 300"); done
 for s in 1 2 3 4 5 6 7 8 9 10 11 12; do jobs+=("hard$s --scene box_pile --set mass_ratio_set=1 --set dt=0.01 --set layers=12 --steps 500 --set seed=$s"); done
