@@ -79,6 +79,11 @@ void BlockLU::analyze(int blocks, const std::vector<int>& start, const std::vect
     update_start_.push_back(static_cast<int>(update_.size()));
   }
   block_.resize(nb + 2 * fill_.size());
+  std::vector<char> given(block_.size(), 0);
+  for (const int at : source_) given[at] = 1;
+  fill_only_.clear();
+  for (std::size_t at = 0; at < block_.size(); ++at)
+    if (!given[at]) fill_only_.push_back(static_cast<int>(at));
   diagonal_.resize(nb);
   z_.resize(nb);
   eliminated_ = 0;
@@ -114,19 +119,24 @@ void divide_on_the_right(const Eigen::PartialPivLU<BlockLU::Mat6>& lu, BlockLU::
 
 bool BlockLU::eliminate(const double* values, int count, IslandChunks* chunks) {
   eliminated_ = 0;
-  for (Mat6& b : block_) b.setZero();
+  for (const int at : fill_only_) block_[at].setZero();
   for (std::size_t a = 0; a < source_.size(); ++a) block_[source_[a]] = Eigen::Map<const Mat6>(values + 36 * a);
   for (int j = 0; j < count; ++j) {
     Eigen::PartialPivLU<Mat6>& lu = diagonal_[j];
     lu.compute(block_[j]);
     const double pivot = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(std::isfinite(pivot) && pivot > 0)) return false;
-    for (int e = fill_start_[j]; e < fill_start_[j + 1]; ++e) divide_on_the_right(lu, block_[lower(e)]);
-    const int first = update_start_[j], last = update_start_[j + 1];
-    if (chunks && last - first >= kChunkedUpdates) {
-      chunks->each(last - first, [&](int u) { apply_update(update_[first + u]); });
+    // Row p of the column: its L block divided by D_j, then its updates L_pj U_jq for every q (the
+    // U blocks are final), so that rows need nothing from each other.
+    const int begin = fill_start_[j], fill = fill_start_[j + 1] - begin, first = update_start_[j];
+    const auto row = [&](int p) {
+      divide_on_the_right(lu, block_[lower(begin + p)]);
+      for (int u = first + p * fill, last = u + fill; u < last; ++u) apply_update(update_[u]);
+    };
+    if (chunks && fill * fill >= kChunkedUpdates) {
+      chunks->each(fill, row, fill * fill);
     } else {
-      for (int u = first; u < last; ++u) apply_update(update_[u]);
+      for (int p = 0; p < fill; ++p) row(p);
     }
   }
   eliminated_ = count;
@@ -138,11 +148,11 @@ bool BlockLU::factor(const double* values, IslandChunks* chunks) {
   return eliminate(values, blocks_, chunks);
 }
 
-bool BlockLU::factor_schur(const double* values, Eigen::MatrixXd& schur) {
+bool BlockLU::factor_schur(const double* values, Eigen::MatrixXd& schur, IslandChunks* chunks) {
   if (interior_ < 0) throw std::logic_error("BlockLU::factor_schur without an interior");
   const int k = blocks_ - interior_;
   schur.resize(6 * k, 6 * k);
-  if (!eliminate(values, interior_, nullptr)) return false;
+  if (!eliminate(values, interior_, chunks)) return false;
   for (int c = 0; c < k; ++c)
     for (int r = 0; r < k; ++r) schur.block<6, 6>(6 * r, 6 * c) = block_[slot(interior_ + r, interior_ + c)];
   return schur.allFinite();

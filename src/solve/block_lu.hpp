@@ -17,9 +17,10 @@
 // the Newton solver refines every solution against the exact equations (newton.cpp).
 //
 // Eliminating block j updates every pair of blocks below it in its column and row, each update
-// writing its own block, so they can run in parallel: given IslandChunks, a column with at least
-// kChunkedUpdates updates runs them in its chunks (the substructured backend's interface system).
-// The result is the same bit for bit.
+// writing its own block, so they can run in parallel: given IslandChunks (the substructured
+// backend's interface system and parts), a column with at least kChunkedUpdates updates runs them in
+// its chunks, each chunk a range of the column's L blocks, divided by D_j and then multiplied into
+// their rows of updates. The result is the same bit for bit.
 //
 // With an `interior`, the first `interior` blocks are eliminated first (in AMD order among themselves)
 // and the others after them in their own order, every two of them adjacent; factor_schur() stops
@@ -57,7 +58,7 @@ class BlockLU {
   // Eliminates the interior only; schur (6 x 6 blocks on the trailing blocks, in their order) <- A_KK -
   // A_KI A_II^-1 A_IK. False if a diagonal block of the elimination is numerically singular. Needs
   // interior() >= 0.
-  bool factor_schur(const double* values, Eigen::MatrixXd& schur);
+  bool factor_schur(const double* values, Eigen::MatrixXd& schur, IslandChunks* chunks = nullptr);
   // x <- A^-1 x after factor().
   void solve(double* x);
   // After factor_schur(): b <- [y_I; b_K - A_KI A_II^-1 b_I] (y_I: the forward substitution's, for
@@ -86,6 +87,7 @@ class BlockLU {
   std::vector<int> block_of_, position_of_;   // position <-> block
   std::vector<int> fill_start_, fill_;        // per position j: the positions i > j of its column
   std::vector<int> source_;                   // per pattern entry: its storage slot
+  std::vector<int> fill_only_;                // the storage slots no pattern entry lands on
   std::vector<int> update_start_;             // per position j: its updates
   std::vector<std::array<int, 3>> update_;    // {target, L block, U block}: target -= L U
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> block_;  // the factor

@@ -93,8 +93,8 @@ bool BodySpaceSystem::factor_assembled(IslandChunks* chunks) {
   return factored_;
 }
 
-bool BodySpaceSystem::factor_schur(int interior, Eigen::MatrixXd& schur) {
-  factored_ = n_.factor_schur(interior, schur);
+bool BodySpaceSystem::factor_schur(int interior, Eigen::MatrixXd& schur, IslandChunks* chunks) {
+  factored_ = n_.factor_schur(interior, schur, chunks);
   return factored_;
 }
 

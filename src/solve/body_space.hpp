@@ -52,7 +52,7 @@ class BodySpaceSystem {
   // The substructured backend's part (pattern_factor.hpp, factor_schur): N factored by LU with its
   // first `interior` bodies eliminated first, `schur` <- the Schur complement of the others; then
   // h (6 entries per body) <- [y_I; h_K - N_KI N_II^-1 h_I], and <- [N_II^-1 (h_I - N_IK u_K); u_K].
-  bool factor_schur(int interior, Eigen::MatrixXd& schur);
+  bool factor_schur(int interior, Eigen::MatrixXd& schur, IslandChunks* chunks = nullptr);
   void forward_interior(Eigen::VectorXd& h) { n_.forward_interior(h.data()); }
   void back_interior(Eigen::VectorXd& h, const Eigen::VectorXd& u_k) { n_.back_interior(h.data(), u_k.data()); }
   // Whether `piece` gives the rows the equations, ties and shifts of the last assemble(), and N

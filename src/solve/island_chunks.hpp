@@ -35,12 +35,12 @@ class IslandChunks {
     low_.assign(count_, 0.0);
   }
 
-  // fn(k) for every k in [0, n): n rows or n bodies.
+  // fn(k) for every k in [0, n): n rows or n bodies (or `items` of such work in all).
   template <class Fn>
-  void each(int n, Fn&& fn) {
+  void each(int n, Fn&& fn, int items = -1) {
     run(n, [&](int, int begin, int end) {
       for (int k = begin; k < end; ++k) fn(k);
-    });
+    }, items);
   }
   // The least fn(k) over k in [0, n) (+inf if n is 0).
   template <class Fn>

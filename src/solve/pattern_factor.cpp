@@ -45,9 +45,9 @@ bool PatternFactor::factor(IslandChunks* chunks) {
   return lu_.factor(values_.data(), chunks);
 }
 
-bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur) {
+bool PatternFactor::factor_schur(int interior, Eigen::MatrixXd& schur, IslandChunks* chunks) {
   analyse(interior);
-  return lu_.factor_schur(values_.data(), schur);
+  return lu_.factor_schur(values_.data(), schur, chunks);
 }
 
 void PatternFactor::solve(double* x, int columns) {

@@ -36,8 +36,8 @@ class PatternFactor {
   // others) by LU with I's pivots taken among I's rows and K eliminated last, and sets `schur` to
   // K's Schur complement A_KK - A_KI A_II^-1 A_IK: the LU's trailing block (BlockLU::factor_schur).
   // False if numerically singular. Then forward_interior() and back_interior() solve with A_II;
-  // solve() throws until the next factor().
-  bool factor_schur(int interior, Eigen::MatrixXd& schur);
+  // solve() throws until the next factor(). With `chunks`, as factor().
+  bool factor_schur(int interior, Eigen::MatrixXd& schur, IslandChunks* chunks = nullptr);
   // After factor_schur(): b (size() entries) <- [y_I; b_K - A_KI A_II^-1 b_I] (y_I: the forward
   // substitution's, for back_interior()).
   void forward_interior(double* b) { lu_.forward_interior(b); }

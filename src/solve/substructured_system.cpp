@@ -10,31 +10,52 @@
 
 namespace rbpart {
 
+namespace {
+
+// fn()'s work and critical path: its time, where the loops it ran in `chunks` count at their
+// chunks' tallies (IslandChunks).
 template <class Fn>
-void SubstructuredSystem::for_parts(Fn&& fn) {
-  parallel_for_each(parts_.size(), [&](std::size_t i) {
-    const Timer timer;
-    fn(parts_[i]);
-    parts_[i].ms = timer.ms();
+std::array<double, 2> measure(const IslandChunks& chunks, Fn&& fn) {
+  const double wall = chunks.wall_ms, work = chunks.work_ms, critical_path = chunks.critical_path_ms;
+  const Timer timer;
+  fn();
+  const double own = timer.ms() - (chunks.wall_ms - wall);
+  return {own + (chunks.work_ms - work), own + (chunks.critical_path_ms - critical_path)};
+}
+
+}  // namespace
+
+template <class Fn, class Beside>
+void SubstructuredSystem::for_parts(Fn&& fn, Beside&& beside) {
+  const std::size_t n = parts_.size();
+  std::array<double, 2> beside_cost{};
+  parallel_for_each(n + 1, [&](std::size_t i) {
+    if (i == n) {
+      beside_cost = measure(interface_chunks_, beside);
+    } else {
+      Part& p = parts_[i];
+      p.cost = measure(p.chunks, [&] { fn(p); });
+    }
   });
-  double slowest = 0;
+  double slowest = beside_cost[1];
+  last_.work_ms += beside_cost[0];
   for (const Part& p : parts_) {
-    last_.work_ms += p.ms;
-    slowest = std::max(slowest, p.ms);
+    last_.work_ms += p.cost[0];
+    slowest = std::max(slowest, p.cost[1]);
   }
   last_.critical_path_ms += slowest;
 }
 
 template <class Fn>
+void SubstructuredSystem::for_parts(Fn&& fn) {
+  for_parts(fn, [] {});
+}
+
+template <class Fn>
 void SubstructuredSystem::serial(Fn&& fn) {
-  // The interface factorisation's chunked updates count at their chunks' tallies.
-  const IslandChunks& c = interface_chunks_;
-  const double wall = c.wall_ms, work = c.work_ms, critical_path = c.critical_path_ms;
-  const Timer timer;
-  fn();
-  const double own = timer.ms() - (c.wall_ms - wall);
-  last_.work_ms += own + (c.work_ms - work);
-  last_.critical_path_ms += own + (c.critical_path_ms - critical_path);
+  const std::array<double, 2> cost = measure(interface_chunks_, fn);
+  last_.work_ms += cost[0];
+  last_.critical_path_ms += cost[1];
 }
 
 void SubstructuredSystem::finish_call(double wall_ms) {
@@ -89,6 +110,7 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     std::vector<int>& bodies = split.bodies[i];
     if (bodies.empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
     p.ok = p.refactored = false;
+    p.chunks.set_count(kMaxChunks);
     // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
     // (std::stable_partition would allocate its buffer.)
     const auto boundary = std::partition(bodies.begin(), bodies.end(), [&](int b) { return !split.boundary[b]; });
@@ -129,11 +151,11 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.refactored = !(p.ok && p.n.assembled_for(piece));
   if (p.refactored) {
     p.n.assemble(piece);
-    p.ok = p.n.factor_schur(p.interior, p.schur);
+    p.ok = p.n.factor_schur(p.interior, p.schur, &p.chunks);
   }
-  // The part's block of S, where S holds N_T: the K_i are disjoint, so every part adds to blocks
-  // of its own, and each block of S is N_T's plus one part's whatever the order.
-  if (!p.ok || interface_.bodies() == 0) return;
+}
+
+void SubstructuredSystem::add_schur(const Part& p) {
   const int k = static_cast<int>(p.boundary_at.size());
   for (int c = 0; c < k; ++c)
     for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
@@ -142,13 +164,19 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
 bool SubstructuredSystem::factor(const Piece& piece) {
   const Timer wall;
   last_ = SubstructuredCost{};
-  if (interface_.bodies() > 0) serial([&] { interface_.assemble(piece); });
-  for_parts([&](Part& p) { factor_part(p, piece); });
+  // S's own terms N_T are assembled beside the parts, then every part adds its block of S: the K_i
+  // are disjoint, so each adds to blocks of its own, and each block of S is N_T's plus one part's
+  // whatever the order.
+  const bool coupled = interface_.bodies() > 0;
+  for_parts([&](Part& p) { factor_part(p, piece); }, [&] {
+    if (coupled) interface_.assemble(piece);
+  });
   bool ok = true;
   for (const Part& p : parts_) {
     ok = ok && p.ok;
     last_.parts_refactored += p.refactored;
   }
+  if (ok && coupled) for_parts([&](const Part& p) { add_schur(p); });
   if (ok && interface_.bodies() > 0) serial([&] { ok = interface_.factor_assembled(&interface_chunks_); });
   finish_call(wall.ms());
   return ok;
@@ -158,31 +186,36 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   const Timer wall;
   last_ = SubstructuredCost{};
   x.resize(g.size());
-  // The forward substitution over I_i, which leaves the part's terms of r, h_K - N_KI N_II^-1 h_I.
-  for_parts([&](Part& p) {
-    p.h.setZero(6 * p.n.bodies());
-    p.n.add_rhs(g, p.h);
-    p.n.forward_interior(p.h);
-  });
-  // The interface bodies' velocities u_K, in part order, then the interface rows' impulses.
+  // The forward substitution over I_i, which leaves the part's terms of r, h_K - N_KI N_II^-1 h_I;
+  // beside it the interface rows' terms h_T.
+  for_parts(
+      [&](Part& p) {
+        p.h.setZero(6 * p.n.bodies());
+        p.n.add_rhs(g, p.h);
+        p.n.forward_interior(p.h);
+      },
+      [&] {
+        r_.setZero();
+        interface_.add_rhs(g, r_);
+      });
+  // The interface bodies' velocities u_K, the parts' terms added in part order.
   if (interface_.bodies() > 0)
     serial([&] {
-      r_.setZero();
-      interface_.add_rhs(g, r_);
       for (const Part& p : parts_)
         for (std::size_t l = 0; l < p.boundary_at.size(); ++l)
           r_.segment<6>(6 * p.boundary_at[l]) += p.h.segment<6>(6 * (p.interior + l));
       interface_.solve(r_.data());
-      interface_.recover(g, r_, x);
     });
-  // u_I = N_II^-1 (h_I - N_IK u_K), then the part's own impulses.
-  for_parts([&](Part& p) {
-    const int k = static_cast<int>(p.boundary_at.size());
-    p.u_k.resize(6 * k);
-    for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
-    p.n.back_interior(p.h, p.u_k);
-    p.n.recover(g, p.h, x);
-  });
+  // u_I = N_II^-1 (h_I - N_IK u_K), then the part's own impulses; beside it the interface rows'.
+  for_parts(
+      [&](Part& p) {
+        const int k = static_cast<int>(p.boundary_at.size());
+        p.u_k.resize(6 * k);
+        for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
+        p.n.back_interior(p.h, p.u_k);
+        p.n.recover(g, p.h, x);
+      },
+      [&] { interface_.recover(g, r_, x); });
   finish_call(wall.ms());
 }
 

@@ -23,17 +23,19 @@
 // factorisation. S is symmetric positive definite when no row of the island is tied, else not
 // symmetric.
 //
-// factor(): S is set to N_T (the interface rows, assembled as body_space.hpp assembles N); every
-// part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or shifts changed
-// since it last did, factors it by LU with I_i's bodies first and K_i's last: the trailing block of
-// that LU is its block of S (pattern_factor.hpp, factor_schur), and its forward and back
-// substitutions over I_i give h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). Each part adds
+// factor(): every part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or
+// shifts changed since it last did, factors it by LU with I_i's bodies first and K_i's last (its
+// large columns' updates in chunks of its own): the trailing block of that LU is its block of S
+// (pattern_factor.hpp, factor_schur), and its forward and back substitutions over I_i give
+// h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). Beside the parts, one more task sets S to N_T
+// (the interface rows, assembled as body_space.hpp assembles N). Then every part, in parallel, adds
 // its block to S, on blocks no other part touches (the K_i are disjoint), so S does not depend on
-// the thread count. S is factored like N: its pattern,
-// the interface rows' body graph with each K_i a clique, is fixed and analysed once. solve(): every
-// part, in parallel, substitutes forward over I_i, which leaves its terms of r; the interface solves
-// S (serial); every part, in parallel, substitutes back for u_I and recovers its sub-system rows'
-// impulses.
+// the thread count. S is factored like N (its large columns in chunks): its pattern, the interface
+// rows' body graph with each K_i a clique, is fixed and analysed once. solve(): every part, in
+// parallel, substitutes forward over I_i, which leaves its terms of r, and beside them one task
+// gathers the interface rows' terms; the interface solves S (serial); every part, in parallel,
+// substitutes back for u_I and recovers its sub-system rows' impulses, and beside them one task
+// recovers the interface rows'.
 #include "solve/body_space.hpp"
 #include "solve/island_system.hpp"
 #include "solve/linear_system.hpp"
@@ -81,13 +83,19 @@ class SubstructuredSystem final : public LinearSystem {
     Eigen::MatrixXd schur;              // N_KK - N_KI N_II^-1 N_IK, the part's block of S
     // h_i, then [y_I; h_K - N_KI N_II^-1 h_I] after the forward substitution over I_i, then u_i; u_K.
     Eigen::VectorXd h, u_k;
-    double ms = 0;                      // the part's time in the current parallel phase
+    // The elimination's large columns run their updates in these (BlockLU::kChunkedUpdates).
+    IslandChunks chunks;
+    std::array<double, 2> cost{};       // work and critical path in the current parallel phase
   };
 
-  // Refactors part p if its rows changed (N_i's LU and the part's block of S) and adds that block
-  // to S.
+  // Refactors part p if its rows changed (N_i's LU and the part's block of S).
   void factor_part(Part& p, const Piece& piece);
-  // Runs fn(part) for every part in parallel, timing each; the slowest counts to the critical path.
+  // Adds part p's block of S to S.
+  void add_schur(const Part& p);
+  // Runs fn(part) for every part in parallel, and beside() as one more task, timing each; the
+  // slowest counts to the critical path.
+  template <class Fn, class Beside>
+  void for_parts(Fn&& fn, Beside&& beside);
   template <class Fn>
   void for_parts(Fn&& fn);
   // Runs fn() as serial work.

@@ -206,6 +206,40 @@ TEST(BlockLU, SchurComplementOfTheTrailingBlocksAndTheSubstitutionsOverTheInteri
       }
 }
 
+// A part's elimination runs its large columns in chunks too (the substructured backend's parts): the
+// same Schur complement and substitutions bit for bit, in 3 and 16 chunks.
+TEST(BlockLU, SchurComplementInChunksIsTheSame) {
+  std::mt19937 rng(6);
+  std::normal_distribution<double> value(0, 1);
+  for (const bool symmetric : {true, false}) {
+    const Blocks m(120, 3.0, symmetric, rng);
+    const int interior = 100;
+    const std::vector<double> values = m.values();
+    Eigen::VectorXd b(6 * m.blocks), u_k(6 * (m.blocks - interior));
+    for (int i = 0; i < b.size(); ++i) b[i] = value(rng);
+    for (int i = 0; i < u_k.size(); ++i) u_k[i] = value(rng);
+    BlockLU lu;
+    lu.analyze(m.blocks, m.start, m.adjacent, interior);
+    Eigen::MatrixXd serial;
+    ASSERT_TRUE(lu.factor_schur(values.data(), serial));
+    Eigen::VectorXd serial_x = b;
+    lu.forward_interior(serial_x.data());
+    lu.back_interior(serial_x.data(), u_k.data());
+    for (const int count : {3, 16}) {
+      IslandChunks chunks;
+      chunks.set_count(count);
+      Eigen::MatrixXd schur;
+      ASSERT_TRUE(lu.factor_schur(values.data(), schur, &chunks));
+      EXPECT_GT(chunks.work_ms, 0.0) << "no column had BlockLU::kChunkedUpdates updates";
+      EXPECT_EQ(schur, serial) << count << " chunks";
+      Eigen::VectorXd x = b;
+      lu.forward_interior(x.data());
+      lu.back_interior(x.data(), u_k.data());
+      EXPECT_EQ(x, serial_x) << count << " chunks";
+    }
+  }
+}
+
 TEST(BlockLU, RefusesCallsThatDoNotMatchItsAnalysis) {
   std::mt19937 rng(5);
   const Blocks m(6, 1.0, true, rng);
