@@ -1,5 +1,7 @@
 #include "solve/body_space.hpp"
 
+#include "solve/island_chunks.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -59,6 +61,15 @@ void BodySpaceSystem::assign(const IslandSystem& s, const std::vector<int>& bodi
                                                             : n_.slot(body_[k][p], body_[k][q]);
   }
   run_start_.push_back(nr);
+  // Each body's runs, in run order.
+  runs_of_body_start_.assign(nb + 1, 0);
+  for (std::size_t i = 0; i < own_.size(); ++i)
+    for (int p = 0; p < 2 && body_[run_start_[i]][p] >= 0; ++p) ++runs_of_body_start_[body_[run_start_[i]][p] + 1];
+  for (int b = 0; b < nb; ++b) runs_of_body_start_[b + 1] += runs_of_body_start_[b];
+  runs_of_body_.resize(runs_of_body_start_[nb]);
+  std::vector<int> next(runs_of_body_start_.begin(), runs_of_body_start_.end() - 1);
+  for (std::size_t i = 0; i < own_.size(); ++i)
+    for (int p = 0; p < 2 && body_[run_start_[i]][p] >= 0; ++p) runs_of_body_[next[body_[run_start_[i]][p]]++] = static_cast<int>(i);
 }
 
 void BodySpaceSystem::assign_pattern(const std::vector<std::vector<int>>& cliques) {
@@ -98,60 +109,78 @@ bool BodySpaceSystem::factor_schur(int interior, Eigen::MatrixXd& schur, IslandC
   return factored_;
 }
 
-void BodySpaceSystem::assemble(const Piece& piece) {
+void BodySpaceSystem::assemble(const Piece& piece, IslandChunks* chunks) {
   const IslandSystem& s = *s_;
   factored_ = false;
   assembled_ = true;
+  IslandChunks serial;
+  IslandChunks& loops = chunks ? *chunks : serial;
   const int nr = static_cast<int>(rows_.size());
-  n_.set_zero();
-  for (int b = 0; b < bodies(); ++b) n_.block(diagonal_[b]) = mass_[b];
-  for (int k = 0; k < nr; ++k) {
+  loops.each(nr, [&](int k) {
     const int j = rows_[k];
     equation_[k] = piece.equation[j];
     tie_[k] = piece.tie[j];
     shift_[k] = piece.shift[j];
     if (equation_[k] == RowEquation::Free) inv_s_[k] = 1.0 / (s.sigma[j] + shift_[k]);
-  }
-  // A row's tie to its normal enters its impulse as tie_weight_k x_n: c_t (Tied), c_j / s_j (Free).
-  // (A row without a tie has none, even where 1 / s_j is not finite.)
-  for (int k = 0; k < nr; ++k)
+    // A row's tie to its normal enters its impulse as tie_weight_k x_n: c_t (Tied), c_j / s_j
+    // (Free). (A row without a tie has none, even where 1 / s_j is not finite.)
     tie_weight_[k] = tie_[k] == 0 ? 0.0
                      : equation_[k] == RowEquation::Tied ? tie_[k]
                      : equation_[k] == RowEquation::Free ? tie_[k] * inv_s_[k]
                                                          : 0.0;
+  });
+  // Each block: the mass on the diagonal, then, run by run, the terms of every run on it. Serially
+  // run after run, each run's blocks at once; in chunks, block column by block column: body b's
+  // column (., b) from the runs on b, b as their slot q, so that every column is written by one
+  // body. Every block gets the same sums in the same order either way.
+  if (!chunks) {
+    n_.set_zero();
+    for (int b = 0; b < bodies(); ++b) n_.block(diagonal_[b]) = mass_[b];
+    for (int i = 0; i + 1 < static_cast<int>(run_start_.size()); ++i) add_run(i, -1);
+    return;
+  }
+  chunks->each(bodies(), [&](int b) {
+    n_.set_zero_column(b);
+    n_.block(diagonal_[b]) = mass_[b];
+    for (int r = runs_of_body_start_[b]; r < runs_of_body_start_[b + 1]; ++r) add_run(runs_of_body_[r], b);
+  }, nr);
+}
+
+void BodySpaceSystem::add_run(int i, int b) {
+  const IslandSystem& s = *s_;
   // A run's rows k add J_k,p^T (w_k J_k,q + c_k J_n(k),q) to block (p, q): w_k = 1 / s_k on Free
   // rows, c_k = tie_weight_k / s_n on ties (the normal acts on the same bodies). Gathered as
   // columns, each block's terms are summed in one fixed-size accumulator and added to N once
   // (Eigen's product of these small dynamic shapes would take its general GEMM path).
   using Columns = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxRun>;
   std::array<Columns, 2> jp, bq;
-  for (std::size_t i = 0; i + 1 < run_start_.size(); ++i) {
-    const int begin = run_start_[i], end = run_start_[i + 1];
-    const int slots = body_[begin][1] >= 0 ? 2 : 1;
-    for (int p = 0; p < slots; ++p) {
-      jp[p].resize(6, end - begin);
-      bq[p].resize(6, end - begin);
-    }
-    int m = 0;
-    for (int k = begin; k < end; ++k) {
-      const double w = equation_[k] == RowEquation::Free ? inv_s_[k] : 0.0;
-      const double c = tie_weight_[k] != 0 ? tie_weight_[k] * inv_s_[normal_[k]] : 0.0;
-      if (w == 0 && c == 0) continue;
-      const int j = rows_[k];
-      for (int p = 0; p < slots; ++p) {
-        jp[p].col(m) = s.jac[j][p];
-        bq[p].col(m) = w * s.jac[j][p];
-        if (c != 0) bq[p].col(m) += c * s.jac[rows_[normal_[k]]][p];
-      }
-      ++m;
-    }
-    for (int p = 0; p < slots && m > 0; ++p)
-      for (int q = 0; q < slots; ++q) {
-        Mat6 sum = jp[p].col(0) * bq[q].col(0).transpose();
-        for (int c = 1; c < m; ++c) sum.noalias() += jp[p].col(c) * bq[q].col(c).transpose();
-        n_.block(own_[i][2 * p + q]) += sum;
-      }
+  const int begin = run_start_[i], end = run_start_[i + 1];
+  const int slots = body_[begin][1] >= 0 ? 2 : 1;
+  // The slots q of the columns written: both, or b's.
+  const int q_first = b < 0 || body_[begin][0] == b ? 0 : 1, q_last = b < 0 ? slots : q_first + 1;
+  for (int p = 0; p < slots; ++p) {
+    jp[p].resize(6, end - begin);
+    bq[p].resize(6, end - begin);
   }
+  int m = 0;
+  for (int k = begin; k < end; ++k) {
+    const double w = equation_[k] == RowEquation::Free ? inv_s_[k] : 0.0;
+    const double c = tie_weight_[k] != 0 ? tie_weight_[k] * inv_s_[normal_[k]] : 0.0;
+    if (w == 0 && c == 0) continue;
+    const int j = rows_[k];
+    for (int p = 0; p < slots; ++p) jp[p].col(m) = s.jac[j][p];
+    for (int q = q_first; q < q_last; ++q) {
+      bq[q].col(m) = w * s.jac[j][q];
+      if (c != 0) bq[q].col(m) += c * s.jac[rows_[normal_[k]]][q];
+    }
+    ++m;
+  }
+  for (int p = 0; p < slots && m > 0; ++p)
+    for (int q = q_first; q < q_last; ++q) {
+      Mat6 sum = jp[p].col(0) * bq[q].col(0).transpose();
+      for (int c = 1; c < m; ++c) sum.noalias() += jp[p].col(c) * bq[q].col(c).transpose();
+      n_.block(own_[i][2 * p + q]) += sum;
+    }
 }
 
 bool BodySpaceSystem::assembled_for(const Piece& piece) const {

@@ -41,8 +41,8 @@ class BodySpaceSystem {
   // Factors N of `piece` on the rows (whose equations, ties and shifts it keeps); false if
   // numerically singular. The same as assemble() then factor_assembled().
   bool factor(const Piece& piece);
-  // N of `piece` assembled, not factored.
-  void assemble(const Piece& piece);
+  // N of `piece` assembled, not factored; with `chunks`, its loops over rows and bodies in them.
+  void assemble(const Piece& piece, IslandChunks* chunks = nullptr);
   // N's block of (local body r, local body c), both adjacent in its pattern: to add to after assemble().
   PatternFactor::Block block(int r, int c) { return n_.block(r, c); }
   // The same through its slot, which holds until the next assign().
@@ -70,6 +70,8 @@ class BodySpaceSystem {
   static constexpr int kMaxRun = 16;  // rows in one run (see run_start_), at most
   // N's pattern from the rows' bodies and `cliques`.
   void assign_pattern(const std::vector<std::vector<int>>& cliques);
+  // Adds run i's terms to N: those of block column b (one of the run's bodies), or all (b < 0).
+  void add_run(int i, int b);
   // J_j u for local row k.
   double velocity(int k, const Eigen::VectorXd& u) const;
 
@@ -89,6 +91,7 @@ class BodySpaceSystem {
   std::vector<PatternFactor::Slot> diagonal_;
   std::vector<int> run_start_;
   std::vector<std::array<PatternFactor::Slot, 4>> own_;
+  std::vector<int> runs_of_body_start_, runs_of_body_;  // per local body: the runs on it, in order
   // The piece of the last factor() on the rows; 1 / s_j on Free rows.
   std::vector<RowEquation> equation_;
   std::vector<double> tie_, shift_, inv_s_, tie_weight_;

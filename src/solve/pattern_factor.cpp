@@ -34,6 +34,10 @@ PatternFactor::Slot PatternFactor::slot(int r, int c) const {
 
 void PatternFactor::set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
 
+void PatternFactor::set_zero_column(int c) {
+  std::fill(values_.begin() + 36 * adjacent_start_[c], values_.begin() + 36 * adjacent_start_[c + 1], 0.0);
+}
+
 void PatternFactor::analyse(int interior) {
   if (analysed_ && lu_.interior() == interior) return;
   lu_.analyze(blocks_, adjacent_start_, adjacent_, interior);

@@ -28,6 +28,8 @@ class PatternFactor {
 
   int size() const { return 6 * blocks_; }
   void set_zero();
+  // Zeroes block column c, the blocks (., c).
+  void set_zero_column(int c);
 
   // Factors the current values; false if numerically singular. With `chunks`, the block LU's large
   // columns run their updates in them (BlockLU::factor).

@@ -150,7 +150,7 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
 void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   p.refactored = !(p.ok && p.n.assembled_for(piece));
   if (p.refactored) {
-    p.n.assemble(piece);
+    p.n.assemble(piece, &p.chunks);
     p.ok = p.n.factor_schur(p.interior, p.schur, &p.chunks);
   }
 }

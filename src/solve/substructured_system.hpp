@@ -25,8 +25,8 @@
 //
 // factor(): every part, in parallel, assembles N_i and, if its sub-system rows' equations, ties or
 // shifts changed since it last did, factors it by LU with I_i's bodies first and K_i's last (its
-// large columns' updates in chunks of its own): the trailing block of that LU is its block of S
-// (pattern_factor.hpp, factor_schur), and its forward and back substitutions over I_i give
+// assembly and its large columns' updates in chunks of its own): the trailing block of that LU is
+// its block of S (pattern_factor.hpp, factor_schur), and its forward and back substitutions over I_i give
 // h_K - N_KI N_II^-1 h_I and N_II^-1 (h_I - N_IK u_K). Beside the parts, one more task sets S to N_T
 // (the interface rows, assembled as body_space.hpp assembles N). Then every part, in parallel, adds
 // its block to S, on blocks no other part touches (the K_i are disjoint), so S does not depend on
@@ -83,7 +83,8 @@ class SubstructuredSystem final : public LinearSystem {
     Eigen::MatrixXd schur;              // N_KK - N_KI N_II^-1 N_IK, the part's block of S
     // h_i, then [y_I; h_K - N_KI N_II^-1 h_I] after the forward substitution over I_i, then u_i; u_K.
     Eigen::VectorXd h, u_k;
-    // The elimination's large columns run their updates in these (BlockLU::kChunkedUpdates).
+    // N_i's assembly, block column by block column, and the elimination's large columns run in
+    // these (BodySpaceSystem::assemble, BlockLU::kChunkedUpdates).
     IslandChunks chunks;
     std::array<double, 2> cost{};       // work and critical path in the current parallel phase
   };
