@@ -12,16 +12,6 @@
 
 namespace rbpart {
 
-namespace {
-
-// The Newton iteration's own loops run in kMaxChunks chunks (island_chunks.hpp: their rows are
-// independent, so the partition does not bound how finely they split), but never in chunks of fewer
-// rows than this, so that timing a chunk (two clock reads, ~60 ns) stays small beside it: with 64
-// rows a chunk, Chain Drop's solve took 10 % longer at 2 threads.
-constexpr int kMinRowsPerChunk = 256;
-
-}  // namespace
-
 NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& bodies, const Islands& islands,
                                                      const ConstraintGraph& graph, const Partition& partition,
                                                      const SolverParams& params, SubstructuredCache* cache) {
@@ -36,7 +26,7 @@ NewtonSubstructuredReport solve_newton_substructured(Rows& rows, const Bodies& b
     IslandSlot<SubstructuredSystem>& slot = *slots[i];
     IslandSystem& s = slot.system;
     NewtonWorkspace& ws = slot.workspace;
-    ws.chunks.set_count(std::min(kMaxChunks, (islands.row_offset[i + 1] - islands.row_offset[i]) / kMinRowsPerChunk));
+    ws.chunks.set_count(chunks_for_rows(islands.row_offset[i + 1] - islands.row_offset[i]));
     s.gather(rows, bodies, islands, i, kept.local_row, ws.chunks);
     SubstructuredSystem& system = slot.backend;
     island_parts(s, graph, partition, slot.part_of_body, slot.distinct);

@@ -110,7 +110,7 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     std::vector<int>& bodies = split.bodies[i];
     if (bodies.empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
     p.ok = p.refactored = false;
-    p.chunks.set_count(kMaxChunks);
+    p.chunks.set_count(chunks_for_rows(static_cast<int>(split.rows[i].size()), kMinPartRowsPerChunk));
     // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
     // (std::stable_partition would allocate its buffer.)
     const auto boundary = std::partition(bodies.begin(), bodies.end(), [&](int b) { return !split.boundary[b]; });

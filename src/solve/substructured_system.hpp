@@ -84,7 +84,8 @@ class SubstructuredSystem final : public LinearSystem {
     // h_i, then [y_I; h_K - N_KI N_II^-1 h_I] after the forward substitution over I_i, then u_i; u_K.
     Eigen::VectorXd h, u_k;
     // N_i's assembly, block column by block column, and the elimination's large columns run in
-    // these (BodySpaceSystem::assemble, BlockLU::kChunkedUpdates).
+    // these (BodySpaceSystem::assemble, BlockLU::kChunkedUpdates), as many as the part's rows
+    // allow (chunks_for_rows).
     IslandChunks chunks;
     std::array<double, 2> cost{};       // work and critical path in the current parallel phase
   };
