@@ -130,10 +130,10 @@ void BodySpaceSystem::assemble(const Piece& piece, IslandChunks* chunks) {
                                                          : 0.0;
   });
   // Each block: the mass on the diagonal, then, run by run, the terms of every run on it. Serially
-  // run after run, each run's blocks at once; in chunks, block column by block column: body b's
-  // column (., b) from the runs on b, b as their slot q, so that every column is written by one
-  // body. Every block gets the same sums in the same order either way.
-  if (!chunks) {
+  // run after run, each run's blocks at once; in several chunks, block column by block column:
+  // body b's column (., b) from the runs on b, b as their slot q, so that every column is written
+  // by one body. Every block gets the same sums in the same order either way.
+  if (loops.count() == 1) {
     n_.set_zero();
     for (int b = 0; b < bodies(); ++b) n_.block(diagonal_[b]) = mass_[b];
     for (int i = 0; i + 1 < static_cast<int>(run_start_.size()); ++i) add_run(i, -1);

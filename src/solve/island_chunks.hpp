@@ -44,6 +44,7 @@ class IslandChunks {
     low_.assign(count_, 0.0);
   }
 
+  int count() const { return count_; }
   // fn(k) for every k in [0, n): n rows or n bodies (or `items` of such work in all).
   template <class Fn>
   void each(int n, Fn&& fn, int items = -1) {

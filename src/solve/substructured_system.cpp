@@ -177,7 +177,7 @@ bool SubstructuredSystem::factor(const Piece& piece) {
     last_.parts_refactored += p.refactored;
   }
   if (ok && coupled) for_parts([&](const Part& p) { add_schur(p); });
-  if (ok && interface_.bodies() > 0) serial([&] { ok = interface_.factor_assembled(&interface_chunks_); });
+  if (ok && coupled) serial([&] { ok = interface_.factor_assembled(&interface_chunks_); });
   finish_call(wall.ms());
   return ok;
 }
