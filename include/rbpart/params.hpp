@@ -25,7 +25,8 @@ struct StepParams {
   double sliding_velocity_eps = 1e-4;
   // Position post-stabilisation (project/position_projection.hpp): after each step, Gauss-Newton
   // projections of the rigid joints' position errors and of contacts deeper than projection_depth
-  // (m), until every joint error is below joint_tolerance (m or rad); 0 iterations: Baumgarte only.
+  // (m, pushed back to half of it), until every joint error is below joint_tolerance (m or rad) and
+  // no contact is deeper than projection_depth; 0 iterations: Baumgarte only.
   // It runs when the scene has joints, when some body turned by more than projection_turn (rad) in
   // the step (the contacts' linearisation errs by ~ r turn^2 / 2 then: 1 mm at 0.1 rad), or when the
   // solve left an island unsettled (above the residual 1e-9).

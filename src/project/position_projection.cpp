@@ -45,7 +45,10 @@ double PositionProjection::project(const std::vector<JointFrame>& joints, const 
     for (std::size_t c = 0; c < contacts.size(); ++c) {
       const int from = static_cast<int>(c);
       const double d = contacts[c].distance + row_dot(contact_rows_, from, move);
-      const double slack = std::max(d, 0.0) + std::min(0.0, d + params.projection_depth);
+      // A contact found deeper than depth is pushed back to half of it, so that the linearisation's
+      // error at the next collision (a turning body's corner) stays within depth.
+      const double depth = params.projection_depth * (contacts[c].distance < -params.projection_depth ? 0.5 : 1.0);
+      const double slack = std::max(d, 0.0) + std::min(0.0, d + depth);
       too_deep = too_deep || slack < -params.joint_tolerance;
       const int r = rows_.add(RowKind::Normal, contact_rows_.body[from][0], contact_rows_.body[from][1],
                               contact_rows_.key[from]);

@@ -12,10 +12,11 @@
 // Gauss-Newton step is a BLCP solved by the direct solver (solve_newton_direct):
 //   rigid joint rows: (A delta + phi)_j = 0,                       delta_j free
 //   contact rows:     w_c = (A delta)_c + s(d_c) >= 0,              delta_c >= 0, w_c delta_c = 0
-//                     s(d) = max(d, 0) + min(0, d + depth)
+//                     s(d) = max(d, 0) + min(0, d + depth_c)
 // with A = J M^-1 J^T (+ the rigid-row floor), phi the joint errors at the current poses and d_c
-// the contact's distance plus the projection's moves so far along it. Every rigid joint closes; a
-// contact deeper than `depth` is pushed back to it; and no contact is pushed deeper than it is, nor
+// the contact's distance plus the projection's moves so far along it; depth_c is `depth`, or half of
+// it for a contact found deeper than `depth`. Every rigid joint closes; a contact deeper than
+// `depth` is pushed back to half of it; and no contact is pushed deeper than it is, nor
 // a gap closed past touching. So a joint is never closed by pushing a body into another: a
 // projection that saw only the joints pulled a chain draped over a bar 86 mm into it, as the light
 // links took the whole correction of a heavy end. Penetration below `depth` is left to the

@@ -7,7 +7,7 @@
 namespace rbpart {
 
 namespace {
-constexpr int kRounds = 3;  // collide-and-project rounds at most
+constexpr int kRounds = 6;  // collide-and-project rounds at most (a round that is not deep and closed ends it)
 }  // namespace
 
 bool ProjectStage::run(const std::vector<JointFrame>& joints, bool unsettled, double dt, Bodies& bodies,
@@ -25,22 +25,25 @@ bool ProjectStage::run(const std::vector<JointFrame>& joints, bool unsettled, do
   // a neighbour ended 12 mm in). And a round only guards the pairs it found within the contact
   // margin: closing a chain's joints can pull a link through a body it was not touching (the
   // heavy end of a falling chain, 15 mm deep). So the contacts are found again at the projected
-  // poses, and projected once more if deep, while a round found a contact deeper than twice the
-  // depth or moved a body's points more than half the margin (a pair it did not see may have met).
+  // poses, and projected once more while a round found a contact deeper than projection_depth, left
+  // a joint open (its Gauss-Newton steps hold the contacts' Jacobians of the round's poses, and a
+  // folding chain's can stall on them), or moved a body's points more than half the margin (a pair
+  // it did not see may have met).
+  bool open = false;  // a joint the last round left above joint_tolerance
   for (int round = 0; round < kRounds; ++round) {
     collider_.collide(frame_position_, bodies.q, still_, still_, dt, contacts_);
     double deepest = 0;
     for (const Contact& c : contacts_) deepest = std::max(deepest, -c.distance);
-    const bool deep = deepest > 2 * params.projection_depth;
-    if (round > 0 && !deep) break;
+    const bool deep = deepest > params.projection_depth;
+    if (round > 0 && !deep && !open) break;
     before_x_ = bodies.x;
     before_q_ = bodies.q;
-    projection_.project(joints, contacts_, bodies, params, solver);
+    open = projection_.project(joints, contacts_, bodies, params, solver) > params.joint_tolerance;
     double moved = 0;
     for (int i = 0; i < bodies.size(); ++i)
       moved = std::max(moved, (bodies.x[i] - before_x_[i]).norm() +
                                   collider_.reach(i) * bodies.q[i].angularDistance(before_q_[i]));
-    if (!deep && 2 * moved <= params.contact_margin) break;
+    if (!deep && !open && 2 * moved <= params.contact_margin) break;
     for (int i = 0; i < bodies.size(); ++i) frame_position_[i] = bodies.frame_position(i);
   }
   return true;

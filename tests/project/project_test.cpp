@@ -1,6 +1,6 @@
 // The project stage (project/project.hpp): when it runs (joints, a body that turned far in the
 // step, an unsettled solve) and what it leaves: a sphere sunk into the ground comes back up to
-// projection_depth, found by the stage's own collider.
+// half of projection_depth, found by the stage's own collider.
 #include <gtest/gtest.h>
 
 #include "project/project.hpp"
@@ -54,14 +54,14 @@ TEST(ProjectStage, RunsOnlyForJointsATurnOrAnUnsettledSolve) {
   EXPECT_FALSE(stage.run({}, true, kDt, u.bodies, off, SolverParams{}));
 }
 
-TEST(ProjectStage, ASunkSphereRisesToTheProjectionDepth) {
+TEST(ProjectStage, ASunkSphereRisesToHalfTheProjectionDepth) {
   Sunk s;
   const StepParams params;
   ProjectStage stage(s.scene, params.contact_margin);
   ASSERT_TRUE(stage.run({}, true, kDt, s.bodies, params, SolverParams{}));
-  // Pushed back to projection_depth, not out of the ground (the rows' 1e-6 regularisation floor
-  // lets it yield by about that fraction of the correction); velocities untouched.
-  EXPECT_NEAR(s.bodies.x[1].z(), kRadius - params.projection_depth, 1e-6 * kSunk + 1e-12);
+  // Pushed back to half of projection_depth, not out of the ground (the rows' 1e-6 regularisation
+  // floor lets it yield by about that fraction of the correction); velocities untouched.
+  EXPECT_NEAR(s.bodies.x[1].z(), kRadius - 0.5 * params.projection_depth, 1e-6 * kSunk + 1e-12);
   EXPECT_EQ(s.bodies.v[1], Vec3::Zero());
   EXPECT_EQ(s.bodies.x[1].x(), 0.0);
   EXPECT_EQ(s.bodies.x[1].y(), 0.0);
