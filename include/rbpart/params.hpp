@@ -29,7 +29,8 @@ struct StepParams {
   // no contact is deeper than projection_depth; 0 iterations: Baumgarte only.
   // It runs when the scene has joints, when some body turned by more than projection_turn (rad) in
   // the step (the contacts' linearisation errs by ~ r turn^2 / 2 then: 1 mm at 0.1 rad), or when the
-  // solve left an island unsettled (above the residual 1e-9).
+  // solve left an island unsettled (above the residual 1e-9); and before a step's solve when its
+  // collide stage finds a contact deeper than projection_depth.
   int joint_projection_iterations = 8;
   double joint_tolerance = 1e-6;
   double projection_depth = 0.002;
