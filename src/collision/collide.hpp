@@ -3,6 +3,7 @@
 // narrow phase: bullet_adapter.cpp implements the Collider on narrow_phase.hpp and manifold.hpp.
 #include <rbpart/scene.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -17,6 +18,13 @@ struct Contact {
   double distance = 0;    // signed: negative = penetration depth (m)
   std::uint64_t id = 0;   // persistent: the same physical contact keeps its id across steps
 };
+
+// The largest penetration depth among `contacts` (m; 0 when none penetrates).
+inline double deepest_penetration(const std::vector<Contact>& contacts) {
+  double deepest = 0;
+  for (const Contact& c : contacts) deepest = std::max(deepest, -c.distance);
+  return deepest;
+}
 
 class Collider {
  public:

@@ -10,11 +10,11 @@ namespace {
 constexpr int kRounds = 6;  // collide-and-project rounds at most (a round that is not deep and closed ends it)
 }  // namespace
 
-bool ProjectStage::run(const std::vector<JointFrame>& joints, bool unsettled, double dt, Bodies& bodies,
+bool ProjectStage::run(const std::vector<JointFrame>& joints, bool asked, double dt, Bodies& bodies,
                        const StepParams& params, const SolverParams& solver) {
   double turn = 0;
   for (int i = 0; i < bodies.size(); ++i) turn = std::max(turn, dt * bodies.w[i].norm());
-  if (params.joint_projection_iterations <= 0 || (joints.empty() && turn <= params.projection_turn && !unsettled))
+  if (params.joint_projection_iterations <= 0 || (joints.empty() && turn <= params.projection_turn && !asked))
     return false;
   update_world_inertia(bodies);
   frame_position_.resize(bodies.size());
@@ -32,9 +32,7 @@ bool ProjectStage::run(const std::vector<JointFrame>& joints, bool unsettled, do
   bool open = false;  // a joint the last round left above joint_tolerance
   for (int round = 0; round < kRounds; ++round) {
     collider_.collide(frame_position_, bodies.q, still_, still_, dt, contacts_);
-    double deepest = 0;
-    for (const Contact& c : contacts_) deepest = std::max(deepest, -c.distance);
-    const bool deep = deepest > params.projection_depth;
+    const bool deep = deepest_penetration(contacts_) > params.projection_depth;
     if (round > 0 && !deep && !open) break;
     before_x_ = bodies.x;
     before_q_ = bodies.q;

@@ -1,9 +1,10 @@
 #pragma once
 // Project stage (docs/pipeline.md#project): position post-stabilisation after the positions are
 // integrated, when the scene has joints to close, some body turned by more than projection_turn in
-// the step (its contacts' linearisation no longer guards its corners), or the solve left an island
-// unsettled (its impulses are then only approximate: a 1000 kg rock landing on 10 kg ones sank
-// 12 mm into them). It finds the contacts again at the new poses with a collider of its own (the
+// the step (its contacts' linearisation no longer guards its corners), or the caller asks: the solve
+// left an island unsettled (its impulses are then only approximate: a 1000 kg rock landing on 10 kg
+// ones sank 12 mm into them), or a step's collide stage found a contact deeper than
+// projection_depth (step/world.cpp). It finds the contacts again at the new poses with a collider of its own (the
 // collide stage's keeps its pairs' persistent state from one step to the next) and projects them
 // and the joints out (position_projection.hpp).
 #include <rbpart/params.hpp>
@@ -22,8 +23,9 @@ class ProjectStage {
  public:
   ProjectStage(const SceneDef& scene, double contact_margin) : collider_(scene, contact_margin) {}
 
-  // Projects the poses in `bodies` when the rule above asks for it; returns whether it did.
-  bool run(const std::vector<JointFrame>& joints, bool unsettled, double dt, Bodies& bodies, const StepParams& params,
+  // Projects the poses in `bodies` when the rule above asks for it (`asked`: the caller's reasons);
+  // returns whether it did.
+  bool run(const std::vector<JointFrame>& joints, bool asked, double dt, Bodies& bodies, const StepParams& params,
            const SolverParams& solver);
 
  private:

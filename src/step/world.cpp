@@ -232,10 +232,8 @@ struct World::Impl {
   // its solve and collides again; returns whether it did. PGS, never settled, stays the plain
   // baseline, as after its steps.
   bool project_deep_contacts() {
-    if (solver_params.kind == SolverKind::Pgs) return false;
-    double deepest = 0;
-    for (const Contact& c : contacts) deepest = std::max(deepest, -c.distance);
-    if (!(deepest > step_params.projection_depth)) return false;
+    if (solver_params.kind == SolverKind::Pgs || !(deepest_penetration(contacts) > step_params.projection_depth))
+      return false;
     if (!project.run(joints, true, scene.dt, bodies, step_params, solver_params)) return false;
     collide();
     return true;
@@ -320,8 +318,7 @@ struct World::Impl {
     s.islands = static_cast<int>(islands.count());
     // Without a partitioner the parts are the islands, with no interface.
     s.partition = partitioned ? measure_partition(graph_, partition_) : PartitionStats{s.islands};
-    s.max_penetration = 0;
-    for (const Contact& c : contacts) s.max_penetration = std::max(s.max_penetration, -c.distance);
+    s.max_penetration = deepest_penetration(contacts);
     s.kinetic_energy = kinetic_energy();
     // Nor is a step that ends finite but with a non-finite residual or energy a success to report.
     if (!std::isfinite(s.solve.residual) || !std::isfinite(s.kinetic_energy))
