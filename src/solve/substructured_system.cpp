@@ -25,6 +25,52 @@ std::array<double, 2> measure(const IslandChunks& chunks, Fn&& fn) {
 
 }  // namespace
 
+// The interface bodies: a cover of the pairs of bodies in two parts that rows join, so that every
+// row between two parts has a body on the interface and no row couples two parts' own bodies.
+// Taking both bodies of every such pair (Peiret et al.'s interface) would double S; the cover is
+// built greedily: the body on the most pairs not yet covered joins it (the lowest on a tie) until
+// every pair is covered.
+void SubstructuredSystem::cover_cuts(const IslandSystem& s, const std::vector<int>& part_of_body, Cover& c,
+                                     std::vector<char>& on_interface) {
+  c.pairs.clear();
+  for (int j = 0; j < s.rows; ++j) {
+    const int a = s.body[j][0], b = s.body[j][1];
+    if (b >= 0 && part_of_body[a] != part_of_body[b]) c.pairs.push_back({std::min(a, b), std::max(a, b)});
+  }
+  std::sort(c.pairs.begin(), c.pairs.end());
+  c.pairs.erase(std::unique(c.pairs.begin(), c.pairs.end()), c.pairs.end());
+  // Each body's pairs, by the other body: c.other[c.start[b] .. c.start[b + 1]).
+  c.start.assign(s.bodies + 1, 0);
+  for (const auto& [a, b] : c.pairs) ++c.start[a + 1], ++c.start[b + 1];
+  for (int b = 0; b < s.bodies; ++b) c.start[b + 1] += c.start[b];
+  c.other.resize(2 * c.pairs.size());
+  c.uncovered.assign(s.bodies, 0);  // here: each body's pairs filled in so far
+  for (const auto& [a, b] : c.pairs) {
+    c.other[c.start[a] + c.uncovered[a]++] = b;
+    c.other[c.start[b] + c.uncovered[b]++] = a;
+  }
+  on_interface.assign(s.bodies, 0);
+  c.heap.clear();
+  for (int b = 0; b < s.bodies; ++b)
+    if (c.uncovered[b] > 0) c.heap.push_back({c.uncovered[b], -b});
+  std::make_heap(c.heap.begin(), c.heap.end());
+  while (!c.heap.empty()) {
+    std::pop_heap(c.heap.begin(), c.heap.end());
+    const auto [count, minus_b] = c.heap.back();
+    c.heap.pop_back();
+    const int b = -minus_b;
+    if (on_interface[b] || count != c.uncovered[b]) continue;  // an entry from before a neighbour joined
+    on_interface[b] = 1;
+    for (int k = c.start[b]; k < c.start[b + 1]; ++k) {
+      const int other = c.other[k];
+      if (!on_interface[other] && --c.uncovered[other] > 0) {
+        c.heap.push_back({c.uncovered[other], -other});
+        std::push_heap(c.heap.begin(), c.heap.end());
+      }
+    }
+  }
+}
+
 template <class Fn, class Beside>
 void SubstructuredSystem::for_parts(Fn&& fn, Beside&& beside) {
   const std::size_t n = parts_.size();
@@ -70,78 +116,98 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
   const Timer wall;
   last_ = total_ = SubstructuredCost{};
   interface_chunks_.set_count(kMaxChunks);
-  const int part_count = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
+  Split& split = split_;
+  cover_cuts(s, part_of_body, split.cover, split.on_interface);
+  // Parts with a body off the interface, renumbered in the partition's order.
+  const int ids = *std::max_element(part_of_body.begin(), part_of_body.end()) + 1;
+  split.part_of_id.assign(ids, -1);
+  for (int b = 0; b < s.bodies; ++b)
+    if (!split.on_interface[b]) split.part_of_id[part_of_body[b]] = 0;
+  int part_count = 0;
+  for (int& p : split.part_of_id)
+    if (p == 0) p = part_count++;
   // As many parts as at the last assign() (a resting island): each keeps its pattern and analyses
   // where these hold.
   if (static_cast<int>(parts_.size()) != part_count) parts_ = std::vector<Part>(part_count);
-  // Rows by the parts of their bodies: {i, i} a sub-system row of part i, {i, k} an interface row
-  // between parts i and k (by slot). The split's buffers keep their capacity from call to call.
-  Split& split = split_;
-  split.group.resize(s.rows);
+  // Rows by owner: the part of a body of theirs off the interface, or the interface (-1). The
+  // split's buffers keep their capacity from call to call.
   for (std::vector<std::vector<int>>* lists : {&split.bodies, &split.rows, &split.cliques}) {
     lists->resize(part_count);
     for (std::vector<int>& list : *lists) list.clear();
   }
   split.interface_rows.clear();
   split.interface_bodies.clear();
-  split.boundary.assign(s.bodies, 0);
-  for (int b = 0; b < s.bodies; ++b) split.bodies[part_of_body[b]].push_back(b);
+  split.owner.resize(s.rows);
+  for (int b = 0; b < s.bodies; ++b) {
+    if (split.on_interface[b]) split.interface_bodies.push_back(b);
+    else split.bodies[split.part_of_id[part_of_body[b]]].push_back(b);
+  }
+  split.clique_of.assign(s.bodies, -1);
   for (int j = 0; j < s.rows; ++j) {
-    std::array<int, 2>& group = split.group[j];
-    const int first = part_of_body[s.body[j][0]];
-    group = {first, s.body[j][1] < 0 ? first : part_of_body[s.body[j][1]]};
-    if (group[0] == group[1]) {
-      split.rows[first].push_back(j);
-    } else {
+    int owner = -1;
+    for (const int b : s.body[j])
+      if (b >= 0 && !split.on_interface[b]) owner = split.part_of_id[part_of_body[b]];
+    split.owner[j] = owner;
+    if (owner < 0) {
       split.interface_rows.push_back(j);
-      split.boundary[s.body[j][0]] = split.boundary[s.body[j][1]] = 1;
+      continue;
     }
+    split.rows[owner].push_back(j);
+    for (const int b : s.body[j])  // K_i: the interface bodies of part i's rows
+      if (b >= 0 && split.on_interface[b] && split.clique_of[b] != owner) {
+        split.clique_of[b] = owner;
+        split.cliques[owner].push_back(b);
+      }
   }
   for (int j = 0; j < s.rows; ++j) {
     const int n = s.normal_of[j];
-    if (n >= 0 && std::minmax(split.group[j][0], split.group[j][1]) != std::minmax(split.group[n][0], split.group[n][1]))
+    if (n >= 0 && split.owner[j] != split.owner[n])
       throw std::invalid_argument("SubstructuredSystem: a friction row and its normal lie in different parts");
   }
   interface_rows_ = static_cast<int>(split.interface_rows.size());
-  for (int b = 0; b < s.bodies; ++b)
-    if (split.boundary[b]) split.interface_bodies.push_back(b);
   for (int i = 0; i < part_count; ++i) {
     Part& p = parts_[i];
-    std::vector<int>& bodies = split.bodies[i];
-    if (bodies.empty()) throw std::invalid_argument("SubstructuredSystem: part " + std::to_string(i) + " is empty");
     p.ok = p.refactored = false;
     p.chunks.set_count(chunks_for_rows(static_cast<int>(split.rows[i].size()), kMinPartRowsPerChunk));
     // N_i's bodies: I_i's first, then K_i's (each increasing), so that its LU eliminates K_i last.
-    // (std::stable_partition would allocate its buffer.)
-    const auto boundary = std::partition(bodies.begin(), bodies.end(), [&](int b) { return !split.boundary[b]; });
-    std::sort(bodies.begin(), boundary);
-    std::sort(boundary, bodies.end());
-    p.interior = static_cast<int>(boundary - bodies.begin());
+    std::vector<int>& bodies = split.bodies[i];
+    std::vector<int>& clique = split.cliques[i];
+    std::sort(clique.begin(), clique.end());
+    p.interior = static_cast<int>(bodies.size());
     p.boundary_at.clear();
-    for (auto b = boundary; b != bodies.end(); ++b) {
-      p.boundary_at.push_back(static_cast<int>(
-          std::lower_bound(split.interface_bodies.begin(), split.interface_bodies.end(), *b) -
-          split.interface_bodies.begin()));
-      split.cliques[i].push_back(p.boundary_at.back());
+    for (int& b : clique) {  // island body -> its position among S's bodies
+      bodies.push_back(b);
+      b = static_cast<int>(std::lower_bound(split.interface_bodies.begin(), split.interface_bodies.end(), b) -
+                           split.interface_bodies.begin());
+      p.boundary_at.push_back(b);
     }
   }
   // The split so far is serial work.
   last_.work_ms = last_.critical_path_ms = wall.ms();
-  // The patterns, the parts' in parallel (a large part's takes milliseconds).
+  // The patterns, the parts' in parallel (a large part's takes milliseconds). The interface bodies'
+  // masses are S's own, not the parts'.
   body_masses(s, split.mass);
+  split.part_mass = split.mass;
+  for (int b : split.interface_bodies) split.part_mass[b] = Mat6::Zero();
   for_parts([&](Part& p) {
     const int i = static_cast<int>(&p - parts_.data());
-    p.n.assign(s, split.bodies[i], split.rows[i], split.mass);
+    p.n.assign(s, split.bodies[i], split.rows[i], split.part_mass);
   });
   serial([&] {
-    // S carries no mass of its own: the parts' blocks hold it.
-    split.no_mass.assign(s.bodies, Mat6::Zero());
-    interface_.assign(s, split.interface_bodies, split.interface_rows, split.no_mass, split.cliques);
-    for (Part& p : parts_) {
-      p.schur_at.clear();
-      for (const int c : p.boundary_at)
-        for (const int r : p.boundary_at) p.schur_at.push_back(interface_.slot(r, c));
+    interface_.assign(s, split.interface_bodies, split.interface_rows, split.mass, split.cliques);
+    // Every part's blocks of S by their slot in S, each slot's in part order.
+    adds_.clear();
+    for (int i = 0; i < part_count; ++i) {
+      const std::vector<int>& at = parts_[i].boundary_at;
+      const int k = static_cast<int>(at.size());
+      for (int c = 0; c < k; ++c)
+        for (int r = 0; r < k; ++r) adds_.push_back({interface_.slot(at[r], at[c]), i, 6 * r, 6 * c});
     }
+    std::sort(adds_.begin(), adds_.end());
+    add_start_.clear();
+    for (std::size_t a = 0; a < adds_.size(); ++a)
+      if (a == 0 || adds_[a][0] != adds_[a - 1][0]) add_start_.push_back(static_cast<int>(a));
+    add_start_.push_back(static_cast<int>(adds_.size()));
   });
   r_.resize(6 * interface_.bodies());
   finish_call(wall.ms());
@@ -155,18 +221,10 @@ void SubstructuredSystem::factor_part(Part& p, const Piece& piece) {
   }
 }
 
-void SubstructuredSystem::add_schur(const Part& p) {
-  const int k = static_cast<int>(p.boundary_at.size());
-  for (int c = 0; c < k; ++c)
-    for (int r = 0; r < k; ++r) interface_.block(p.schur_at[c * k + r]) += p.schur.block<6, 6>(6 * r, 6 * c);
-}
-
 bool SubstructuredSystem::factor(const Piece& piece) {
   const Timer wall;
   last_ = SubstructuredCost{};
-  // S's own terms N_T are assembled beside the parts, then every part adds its block of S: the K_i
-  // are disjoint, so each adds to blocks of its own, and each block of S is N_T's plus one part's
-  // whatever the order.
+  // S's own terms M_K + N_T are assembled beside the parts, then the parts' blocks are added.
   const bool coupled = interface_.bodies() > 0;
   for_parts([&](Part& p) { factor_part(p, piece); }, [&] {
     if (coupled) interface_.assemble(piece);
@@ -176,7 +234,15 @@ bool SubstructuredSystem::factor(const Piece& piece) {
     ok = ok && p.ok;
     last_.parts_refactored += p.refactored;
   }
-  if (ok && coupled) for_parts([&](const Part& p) { add_schur(p); });
+  // The parts' blocks of S, slot by slot, each slot's in part order (parts share interface bodies).
+  if (ok && coupled)
+    serial([&] {
+      interface_chunks_.each(static_cast<int>(add_start_.size()) - 1, [&](int g) {
+        PatternFactor::Block block = interface_.block(adds_[add_start_[g]][0]);
+        for (int a = add_start_[g]; a < add_start_[g + 1]; ++a)
+          block += parts_[adds_[a][1]].schur.block<6, 6>(adds_[a][2], adds_[a][3]);
+      }, static_cast<int>(adds_.size()));
+    });
   if (ok && coupled) serial([&] { ok = interface_.factor_assembled(&interface_chunks_); });
   finish_call(wall.ms());
   return ok;
