@@ -59,8 +59,9 @@ struct SubstructuredCost {
 class SubstructuredSystem final : public LinearSystem {
  public:
   // Splits `s` (kept by reference; it must outlive the solves) by `part_of_body` (island body ->
-  // part 0..P-1, every part non-empty) and builds the patterns. Throws std::invalid_argument if a
-  // friction row and its normal lie in different parts or interfaces.
+  // part id >= 0; parts() counts the ids with a body off the interface) and builds the patterns.
+  // Throws std::invalid_argument if a friction row and its normal lie in different parts or the
+  // interface.
   void assign(const IslandSystem& s, const std::vector<int>& part_of_body);
   bool factor(const Piece& piece) override;
   void solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) override;
