@@ -3,7 +3,7 @@
 # embeds the library links exactly what the library was built against:
 #   Eigen3::Eigen, TBB::tbb, ZLIB::ZLIB     their own CMake packages
 #   PkgConfig::RBPART_BULLET                Bullet in double precision (pkg-config bullet-float64)
-#   rbpart::suitesparse                     SuiteSparse's AMD ordering (solve/block_lu.cpp)
+#   rbpart::suitesparse                     SuiteSparse's AMD and CAMD orderings (solve/block_lu.cpp)
 #   rbpart::metis                           METIS
 find_package(Eigen3 3.3 REQUIRED CONFIG)
 find_package(TBB REQUIRED CONFIG)
@@ -16,7 +16,7 @@ endif()
 if(NOT TARGET rbpart::suitesparse)
   find_path(RBPART_AMD_INCLUDE_DIR amd.h PATH_SUFFIXES suitesparse REQUIRED)
   set(rbpart_suitesparse_libraries "")
-  foreach(lib amd suitesparseconfig)
+  foreach(lib amd camd suitesparseconfig)
     find_library(RBPART_SUITESPARSE_${lib} ${lib} REQUIRED)
     list(APPEND rbpart_suitesparse_libraries ${RBPART_SUITESPARSE_${lib}})
   endforeach()

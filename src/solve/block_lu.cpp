@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 #include <amd.h>
+#include <camd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,20 +16,33 @@ namespace rbpart {
 void BlockLU::analyze(int blocks, const std::vector<int>& start, const std::vector<int>& adjacent, int interior) {
   const int nb = blocks_ = blocks;
   interior_ = interior;
-  const int leading = interior < 0 ? nb : interior;  // the blocks AMD orders
-  // AMD on the leading blocks' graph; the trailing ones follow in their own order.
+  const int leading = interior < 0 ? nb : interior;  // the blocks eliminated by factor() or factor_schur()
+  // AMD on the whole graph; with a split, CAMD with the trailing blocks constrained last, so that the
+  // leading blocks next to them are eliminated late and carry them into few columns' fill (AMD on
+  // the leading blocks alone, blind to the trailing ones, took 1.4 times the block products on the
+  // Large Rock Pile's parts). The trailing blocks keep their own order: every two are adjacent.
   block_of_.resize(nb);
   position_of_.resize(nb);
   std::iota(block_of_.begin(), block_of_.end(), 0);
   if (leading > 1) {
     std::vector<int> colptr(1, 0), rowind;
-    for (int c = 0; c < leading; ++c) {
-      for (int a = start[c]; a < start[c + 1]; ++a)
-        if (adjacent[a] < leading) rowind.push_back(adjacent[a]);
+    for (int c = 0; c < nb; ++c) {
+      for (int a = start[c]; a < start[c + 1]; ++a) rowind.push_back(adjacent[a]);
       colptr.push_back(static_cast<int>(rowind.size()));
     }
-    if (amd_order(leading, colptr.data(), rowind.data(), block_of_.data(), nullptr, nullptr) < AMD_OK)
-      throw std::runtime_error("BlockLU: AMD ordering failed");
+    std::vector<int> order(nb);
+    if (leading == nb) {
+      if (amd_order(nb, colptr.data(), rowind.data(), order.data(), nullptr, nullptr) < AMD_OK)
+        throw std::runtime_error("BlockLU: AMD ordering failed");
+    } else {
+      std::vector<int> constraint(nb);
+      for (int b = 0; b < nb; ++b) constraint[b] = b >= leading;
+      if (camd_order(nb, colptr.data(), rowind.data(), order.data(), nullptr, nullptr, constraint.data()) < CAMD_OK)
+        throw std::runtime_error("BlockLU: CAMD ordering failed");
+    }
+    int j = 0;
+    for (const int b : order)
+      if (b < leading) block_of_[j++] = b;
   }
   for (int j = 0; j < nb; ++j) position_of_[block_of_[j]] = j;
 

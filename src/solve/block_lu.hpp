@@ -22,9 +22,10 @@
 // its chunks, each chunk a range of the column's L blocks, divided by D_j and then multiplied into
 // their rows of updates. The result is the same bit for bit.
 //
-// With an `interior`, the first `interior` blocks are eliminated first (in AMD order among themselves)
-// and the others after them in their own order, every two of them adjacent; factor_schur() stops
-// after the interior, and the trailing blocks then hold their Schur complement.
+// With an `interior`, the first `interior` blocks are eliminated first (in SuiteSparse's CAMD order on
+// the whole graph, the others constrained last) and the others after them in their own order, every
+// two of them adjacent; factor_schur() stops after the interior, and the trailing blocks then hold
+// their Schur complement.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/StdVector>
@@ -46,7 +47,7 @@ class BlockLU {
 
   // `blocks` block rows and columns; block column c holds the block rows adjacent[start[c]] ..
   // adjacent[start[c + 1] - 1] (increasing, both triangles, the diagonal among them). interior < 0:
-  // every block in AMD order, for factor(); else the split of factor_schur().
+  // every block in AMD order, for factor(); else the split of factor_schur() (CAMD).
   void analyze(int blocks, const std::vector<int>& start, const std::vector<int>& adjacent, int interior);
   // The interior analyze() was called with (-1: none).
   int interior() const { return interior_; }
