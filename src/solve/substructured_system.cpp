@@ -173,12 +173,10 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     std::vector<int>& clique = split.cliques[i];
     std::sort(clique.begin(), clique.end());
     p.interior = static_cast<int>(bodies.size());
-    p.boundary_at.clear();
     for (int& b : clique) {  // island body -> its position among S's bodies
       bodies.push_back(b);
       b = static_cast<int>(std::lower_bound(split.interface_bodies.begin(), split.interface_bodies.end(), b) -
                            split.interface_bodies.begin());
-      p.boundary_at.push_back(b);
     }
   }
   // The split so far is serial work.
@@ -197,7 +195,7 @@ void SubstructuredSystem::assign(const IslandSystem& s, const std::vector<int>& 
     // Every part's blocks of S by their slot in S, each slot's in part order.
     adds_.clear();
     for (int i = 0; i < part_count; ++i) {
-      const std::vector<int>& at = parts_[i].boundary_at;
+      const std::vector<int>& at = split.cliques[i];
       const int k = static_cast<int>(at.size());
       for (int c = 0; c < k; ++c)
         for (int r = 0; r < k; ++r) adds_.push_back({interface_.slot(at[r], at[c]), i, 6 * r, 6 * c});
@@ -266,17 +264,19 @@ void SubstructuredSystem::solve(const Eigen::VectorXd& g, Eigen::VectorXd& x) {
   // The interface bodies' velocities u_K, the parts' terms added in part order.
   if (interface_.bodies() > 0)
     serial([&] {
-      for (const Part& p : parts_)
-        for (std::size_t l = 0; l < p.boundary_at.size(); ++l)
-          r_.segment<6>(6 * p.boundary_at[l]) += p.h.segment<6>(6 * (p.interior + l));
+      for (const Part& p : parts_) {
+        const std::vector<int>& at = boundary(p);
+        for (std::size_t l = 0; l < at.size(); ++l) r_.segment<6>(6 * at[l]) += p.h.segment<6>(6 * (p.interior + l));
+      }
       interface_.solve(r_.data());
     });
   // u_I = N_II^-1 (h_I - N_IK u_K), then the part's own impulses; beside it the interface rows'.
   for_parts(
       [&](Part& p) {
-        const int k = static_cast<int>(p.boundary_at.size());
+        const std::vector<int>& at = boundary(p);
+        const int k = static_cast<int>(at.size());
         p.u_k.resize(6 * k);
-        for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * p.boundary_at[l]);
+        for (int l = 0; l < k; ++l) p.u_k.segment<6>(6 * l) = r_.segment<6>(6 * at[l]);
         p.n.back_interior(p.h, p.u_k);
         p.n.recover(g, p.h, x);
       },

@@ -83,7 +83,6 @@ class SubstructuredSystem final : public LinearSystem {
     // last (BodySpaceSystem::factor_schur).
     BodySpaceSystem n;
     int interior = 0;                   // |I_i|
-    std::vector<int> boundary_at;       // K_i's positions among the interface system's bodies
     bool refactored = false, ok = false;
     Eigen::MatrixXd schur;              // N_KK - N_KI N_II^-1 N_IK, the part's block of S
     // h_i, then [y_I; h_K - N_KI N_II^-1 h_I] after the forward substitution over I_i, then u_i; u_K.
@@ -95,6 +94,8 @@ class SubstructuredSystem final : public LinearSystem {
     std::array<double, 2> cost{};       // work and critical path in the current parallel phase
   };
 
+  // K_i's positions among the interface system's bodies.
+  const std::vector<int>& boundary(const Part& p) const { return split_.cliques[&p - parts_.data()]; }
   // Refactors part p if its rows changed (N_i's LU and the part's block of S).
   void factor_part(Part& p, const Piece& piece);
   // Runs fn(part) for every part in parallel, and beside() as one more task, timing each; the
