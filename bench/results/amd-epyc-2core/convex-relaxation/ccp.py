@@ -31,6 +31,8 @@ def load(path):
         blocks.append(m)
     Minv = sp.block_diag(blocks, format='csr') if b else sp.csr_matrix((0, 0))
     P['J'], P['Minv'] = J, Minv
+    if R.shape[1] > 21:   # a dump with the warm start (rest.py)
+        P['warm'], P['warm_state'] = R[:, 21], R[:, 22].astype(int)
     P['M'] = sp.block_diag([np.linalg.inv(m) for m in blocks], format='csc') if b else None
     P['A'] = (J @ Minv @ J.T + sp.diags(P['sigma'])).tocsr()
     return P
