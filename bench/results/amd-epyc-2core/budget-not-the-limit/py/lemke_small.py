@@ -8,17 +8,20 @@ import numpy as np
 from collections import Counter
 from pathlib import Path
 
-from lemke import lemke, st_lcp
+sys.path.insert(0, str(Path(__file__).resolve().parents[3] / 'intel-xeon-2core/local-lemke/py'))
+from isl import lcp, lemke  # the Stewart-Trinkle LCP and Lemke's method of that earlier experiment
 from load import load, resid
 from states import classify, natural_state, strictness
 
 for path in sorted(Path(sys.argv[1]).glob("*.txt"), key=lambda p: int(p.stem)):
     P = load(str(path))
-    M, qq, back = st_lcp(P)
-    z, pivots, end = lemke(M, qq)
+    P['nof'] = P['no']
+    M, qq, E = lcp(P)
+    z, pivots = lemke(M, qq)
+    end = 'ok' if z is not None else 'ray'
     line = f"{path.name}: {P['n']} rows, {P['b']} bodies, warm start {resid(P, P['warm'])[0]:.3g}; Lemke {end} after {pivots} pivots"
     if z is not None:
-        lam = back(z)
+        lam = E @ z
         line += f", residual {resid(P, lam)[0]:.3g}, strictness {strictness(P, lam):.2g}, states {dict(Counter(classify(P, lam)))}"
     print(line)
     if z is not None and P['best'] is not None:

@@ -4,14 +4,17 @@ scratch: its residual. Usage: python3 one_step.py DIR"""
 import sys
 from pathlib import Path
 import numpy as np
-from lemke import lemke, st_lcp
+sys.path.insert(0, str(Path(__file__).resolve().parents[3] / 'intel-xeon-2core/local-lemke/py'))
+from isl import lcp, lemke  # the Stewart-Trinkle LCP and Lemke's method of that earlier experiment
 from load import load, resid, bounds
 
 for path in sorted(Path(sys.argv[1]).glob("*.txt"), key=lambda p: int(p.stem)):
     P = load(str(path)); n = P['n']; A = P['A']; q = P['q']; no = P['no']; mu = P['mu']; d = P['d']
-    z, _, end = lemke(*st_lcp(P)[:2])
-    if z is None: print(path.name, end); continue
-    lam = st_lcp(P)[2](z); w = A @ lam + q; lo, hi = bounds(P, lam)
+    P['nof'] = no
+    M, qq, E_z = lcp(P)
+    z, _ = lemke(M, qq)
+    if z is None: print(path.name, 'ray'); continue
+    lam = E_z @ z; w = A @ lam + q; lo, hi = bounds(P, lam)
     E = np.zeros((n, n)); g = np.zeros(n)
     for j in range(n):
         x = lam[j] - w[j] / d[j]
