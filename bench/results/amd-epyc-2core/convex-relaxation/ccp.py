@@ -1,6 +1,7 @@
-"""The convex relaxation (CCP) of an island's coupled box-friction problem, solved by Mehrotra's
-predictor-corrector in body space: min 1/2 l'Al + q'l s.t. normals >= 0, |l_t| <= mu l_n (linear),
-joint bounds. Counts factorisations to its own residual <= 1e-9 (velocity units / max|q|)."""
+"""The convex relaxation (CCP) of an island's coupled box-friction problem,
+min 1/2 l'Al + q'l s.t. normals >= 0, |l_t| <= mu l_n (linear), joint bounds, solved by Mehrotra's
+predictor-corrector on its row-space system with the multipliers kept (AugmentedSolver). Counts
+factorisations to its own residual <= 1e-9 (velocity units / max|q|)."""
 import sys
 import numpy as np
 import scipy.sparse as sp
@@ -30,10 +31,8 @@ def load(path):
         m = np.zeros((6, 6)); m[:3, :3] = B[k, 0] * np.eye(3); m[3:, 3:] = B[k, 1:10].reshape(3, 3)
         blocks.append(m)
     Minv = sp.block_diag(blocks, format='csr') if b else sp.csr_matrix((0, 0))
-    P['J'], P['Minv'] = J, Minv
     if R.shape[1] > 21:   # a dump with the warm start (rest.py)
         P['warm'], P['warm_state'] = R[:, 21], R[:, 22].astype(int)
-    P['M'] = sp.block_diag([np.linalg.inv(m) for m in blocks], format='csc') if b else None
     P['A'] = (J @ Minv @ J.T + sp.diags(P['sigma'])).tocsr()
     return P
 
@@ -55,14 +54,6 @@ def constraints(P):
                 r.append(k); cidx.append(j); v.append(-1.0); c.append(-hi[j]); row_of.append(j); k += 1
     G = sp.csr_matrix((v, (r, cidx)), shape=(k, n))
     return G, np.array(c), np.array(row_of, dtype=int)
-
-
-def groups(P):
-    """Rows grouped by contact (a normal and its friction rows), others alone."""
-    g = -np.ones(P['n'], dtype=int)
-    for j in range(P['n']):
-        g[j] = P['no'][j] if P['no'][j] >= 0 else j
-    return g
 
 
 class AugmentedSolver:
@@ -181,14 +172,25 @@ def point_residual(P, lam):
     return np.max(err) / scale
 
 
-def coupled_residual(P, lam):
-    scale = max(np.max(np.abs(P['q'])), 1e-12)
+def natural(P, lam, theta=1.0):
+    """Residual (solver's scaling), state (0 free, 1 lower, 2 upper) and w of P(theta) at lam: the
+    normals' complementarity on w_n - (1 - theta) mu sum_t |w_t| (theta = 0 the relaxation,
+    1 the coupled problem of DESIGN.md section 3; homotopy.py)."""
     w = P['A'] @ lam + P['q']
-    lo, hi = P['lo'].copy(), P['hi'].copy()
+    wh = w.copy()
     f = P['no'] >= 0
+    fr = np.nonzero(f)[0]
+    np.subtract.at(wh, P['no'][fr], (1 - theta) * P['mu'][fr] * np.abs(w[fr]))
+    lo, hi = P['lo'].copy(), P['hi'].copy()
     hi[f] = P['mu'][f] * np.maximum(0, lam[P['no'][f]]); lo[f] = -hi[f]
-    F = (lam - np.clip(lam - w / P['diag'], lo, np.maximum(lo, hi))) * P['diag']
-    return np.max(np.abs(F)) / scale
+    x = lam - np.where(f, w, wh) / P['diag']     # friction rows: w_t; normals and joints: shifted
+    F = (lam - np.clip(x, lo, np.maximum(lo, hi))) * P['diag']
+    state = np.where(x <= lo, 1, np.where(x >= hi, 2, 0))
+    return np.max(np.abs(F)) / max(np.max(np.abs(P['q'])), 1e-12), state, w
+
+
+def coupled_residual(P, lam):
+    return natural(P, lam, 1.0)[0]
 
 
 def ipm(P, budget=60, tol=1e-9, trace=False):

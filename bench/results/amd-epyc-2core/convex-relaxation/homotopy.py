@@ -7,29 +7,7 @@ import sys
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
-from ccp import load, ipm, coupled_residual
-
-
-def shifted_w(P, lam, theta):
-    w = P['A'] @ lam + P['q']
-    wh = w.copy()
-    f = np.nonzero(P['no'] >= 0)[0]
-    np.subtract.at(wh, P['no'][f], (1 - theta) * P['mu'][f] * np.abs(w[f]))
-    return w, wh
-
-
-def natural(P, lam, theta):
-    """Residual (solver's scaling) and state of P(theta) at lam."""
-    w, wh = shifted_w(P, lam, theta)
-    d, no, mu = P['diag'], P['no'], P['mu']
-    lo, hi = P['lo'].copy(), P['hi'].copy()
-    f = no >= 0
-    hi[f] = mu[f] * np.maximum(0, lam[no[f]]); lo[f] = -hi[f]
-    v = np.where(f, w, wh)          # friction rows: w_t; normals and joints: the shifted w
-    x = lam - v / d
-    F = (lam - np.clip(x, lo, np.maximum(lo, hi))) * d
-    state = np.where(x <= lo, 1, np.where(x >= hi, 2, 0))
-    return np.max(np.abs(F)) / max(np.max(np.abs(P['q'])), 1e-12), state, w
+from ccp import load, ipm, coupled_residual, natural
 
 
 def piece_solve(P, lam, theta, state, w):
@@ -49,8 +27,6 @@ def piece_solve(P, lam, theta, state, w):
     for j in range(n):
         if no[j] >= 0:
             nn = no[j]
-            if closed[nn] or lam[nn] < 0 or state[j] == 0 and False:
-                pass
             if closed[nn]:
                 E[j, j] = 1.0; g[j] = 0.0
             elif state[j] == 0:

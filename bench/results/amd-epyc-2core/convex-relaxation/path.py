@@ -79,21 +79,20 @@ def margins(P, st, lam, w):
     return m1, m2
 
 
-def run(P, max_pivots=300):
-    f0, r0, lam0 = ipm(P)
-    fact = f0 if f0 is not None else 60
-    q = P['q'].copy()
-    w0 = P['A'] @ lam0 + q
-    st = initial_state(P, lam0, w0)
-    if not SNAP:
-        # The offset is the relaxation's lift on the normals: lambda0 itself is the answer at t = 0.
-        c = np.zeros(P['n'])
-        fr = np.nonzero(P['no'] >= 0)[0]
-        np.add.at(c, P['no'][fr], P['mu'][fr] * np.abs(w0[fr]))
-    # --snap: a start with every margin strictly positive (no zero-length pivots at t = 0): the state's
-    # fixed and tied equations met exactly, free rows DELTA inside their bounds, and the offset a
-    # chosen so that at t = 0 free rows have w = 0 and the others w DELTA outward.
-    no, mu = P['no'], P['mu']
+def lift(P, w):
+    """The relaxation's lift on the normals, mu sum_t |w_t|: with q lowered by it, the relaxation's
+    answer is itself the coupled problem's answer at t = 0."""
+    c = np.zeros(P['n'])
+    fr = np.nonzero(P['no'] >= 0)[0]
+    np.add.at(c, P['no'][fr], P['mu'][fr] * np.abs(w[fr]))
+    return c
+
+
+def snapped_offset(P, lam0, st):
+    """--snap: the offset of a start with every margin strictly positive (no zero-length pivots at
+    t = 0): the state's fixed and tied equations met exactly, free rows DELTA inside their bounds,
+    and at t = 0 free rows with w = 0 and the others with w DELTA outward."""
+    no, mu, q = P['no'], P['mu'], P['q']
     lam = lam0.copy()
     dl = DELTA * max(np.max(np.abs(lam0)), 1e-300)
     dw = DELTA * max(np.max(np.abs(q)), 1e-300)
@@ -111,14 +110,19 @@ def run(P, max_pivots=300):
         elif st[j] == UPPER: lam[j] = b
         elif st[j] == LOWER: lam[j] = -b
         else: lam[j] = np.clip(lam[j], -b + min(dl, 0.5 * b), b - min(dl, 0.5 * b))
-    if SNAP:
-        w = P['A'] @ lam + q
-        out = np.zeros(P['n'])
-        for j in range(P['n']):
-            if st[j] == LOWER: out[j] = dw
-            elif st[j] == UPPER: out[j] = -dw
-        c = w - out
-        c[st == CLOSED] = 0
+    out = np.where(st == LOWER, dw, np.where(st == UPPER, -dw, 0.0))
+    c = P['A'] @ lam + q - out
+    c[st == CLOSED] = 0
+    return c
+
+
+def run(P, max_pivots=300):
+    f0, r0, lam0 = ipm(P)
+    fact = f0 if f0 is not None else 60
+    q = P['q'].copy()
+    w0 = P['A'] @ lam0 + q
+    st = initial_state(P, lam0, w0)
+    c = snapped_offset(P, lam0, st) if SNAP else lift(P, w0)
     t, direction = 0.0, 1.0
     gq0, gq1 = -(q - c), -c          # free rows: A lambda = -(q - c) - t c
     last_changed = None
@@ -158,7 +162,6 @@ def run(P, max_pivots=300):
             k = np.argmin(dts)
             if dts[k] < best_dt:
                 best_dt, hit = dts[k], (np.nonzero(ok)[0][k], which)
-        t_end = 1.0 if direction > 0 else -np.inf
         if direction > 0 and t + best_dt >= 1.0:
             lam = a + b
             return pivot, fact, coupled_residual(P, lam), 1.0
@@ -168,8 +171,7 @@ def run(P, max_pivots=300):
         j, which = hit
         prev = a + t * b
         # pivot: row j changes state
-        no = P['no'][j]
-        lam_t = a + t * b; w_t = wa + t * wb
+        w_t = wa + t * wb
         if P['no'][j] < 0:
             if st[j] == FREE:
                 st[j] = LOWER if which == 1 else UPPER

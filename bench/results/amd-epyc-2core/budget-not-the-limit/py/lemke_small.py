@@ -8,24 +8,21 @@ import numpy as np
 from collections import Counter
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / 'intel-xeon-2core/local-lemke/py'))
-from isl import lcp, lemke  # the Stewart-Trinkle LCP and Lemke's method of that earlier experiment
-from load import load, resid
+from load import lcp, lemke, load, residual
 from states import classify, natural_state, strictness
 
 for path in sorted(Path(sys.argv[1]).glob("*.txt"), key=lambda p: int(p.stem)):
     P = load(str(path))
-    P['nof'] = P['no']
     M, qq, E = lcp(P)
     z, pivots = lemke(M, qq)
     end = 'ok' if z is not None else 'ray'
-    line = f"{path.name}: {P['n']} rows, {P['b']} bodies, warm start {resid(P, P['warm'])[0]:.3g}; Lemke {end} after {pivots} pivots"
+    line = f"{path.name}: {P['n']} rows, {P['b']} bodies, warm start {residual(P, P['warm']):.3g}; Lemke {end} after {pivots} pivots"
     if z is not None:
         lam = E @ z
-        line += f", residual {resid(P, lam)[0]:.3g}, strictness {strictness(P, lam):.2g}, states {dict(Counter(classify(P, lam)))}"
+        line += f", residual {residual(P, lam):.3g}, strictness {strictness(P, lam):.2g}, states {dict(Counter(classify(P, lam)))}"
     print(line)
     if z is not None and P['best'] is not None:
         a, b = natural_state(P, lam), natural_state(P, P['best'])
-        print(f"    the solver's best iterate (residual {resid(P, P['best'])[0]:.3g}) lies in another piece of the natural map than the answer on "
+        print(f"    the solver's best iterate (residual {residual(P, P['best']):.3g}) lies in another piece of the natural map than the answer on "
               f"{sum(x != y for x, y in zip(a, b))} of {P['n']} rows, impulses by up to "
               f"{np.max(np.abs(P['best'] - lam)) / max(np.max(np.abs(lam)), 1e-300):.2g} of the largest")

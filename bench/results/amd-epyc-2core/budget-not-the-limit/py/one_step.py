@@ -4,13 +4,10 @@ scratch: its residual. Usage: python3 one_step.py DIR"""
 import sys
 from pathlib import Path
 import numpy as np
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / 'intel-xeon-2core/local-lemke/py'))
-from isl import lcp, lemke  # the Stewart-Trinkle LCP and Lemke's method of that earlier experiment
-from load import load, resid, bounds
+from load import bounds, lcp, lemke, load, residual
 
 for path in sorted(Path(sys.argv[1]).glob("*.txt"), key=lambda p: int(p.stem)):
-    P = load(str(path)); n = P['n']; A = P['A']; q = P['q']; no = P['no']; mu = P['mu']; d = P['d']
-    P['nof'] = no
+    P = load(str(path)); n = P['n']; A = P['A']; q = P['q']; no = P['no']; mu = P['mu']; d = P['diag']
     M, qq, E_z = lcp(P)
     z, _ = lemke(M, qq)
     if z is None: print(path.name, 'ray'); continue
@@ -26,4 +23,4 @@ for path in sorted(Path(sys.argv[1]).glob("*.txt"), key=lambda p: int(p.stem)):
         elif x <= lo[j]: E[j, j] = 1; E[j, no[j]] = mu[j]
         else: E[j] = A[j]; g[j] = -q[j]
     x = np.linalg.solve(E, g)
-    print(f"{path.name}: one step in the answer's state: residual {resid(P, x)[0]:.2g}")
+    print(f"{path.name}: one step in the answer's state: residual {residual(P, x):.2g}")
